@@ -1,0 +1,33 @@
+# Signorini: the two commands of the README quick start, and a few helpers.
+#   make run   installs what is missing, builds (Release) and solves the default example
+#   make test  installs what is missing, builds and runs the test suite (label `long` excluded)
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+EXAMPLE ?= examples/lame_cylinder/lame_cylinder.yaml
+CMAKE_FLAGS ?=
+
+.PHONY: deps configure build run test test-long bench clean
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) >/dev/null
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+run: build
+	@$(BUILD_DIR)/signorini run $(EXAMPLE) -o results/$(notdir $(basename $(EXAMPLE)))
+
+test: build
+	@cd $(BUILD_DIR) && ctest -LE long --output-on-failure -j $(JOBS)
+
+test-long: build
+	@cd $(BUILD_DIR) && ctest -L long --output-on-failure
+
+bench: build
+	@$(BUILD_DIR)/bench/bench_elasticity
+
+clean:
+	rm -rf $(BUILD_DIR)

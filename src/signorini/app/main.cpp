@@ -1,0 +1,144 @@
+// The `signorini` command: run a deck, check a deck, describe a registered type.
+// Exit codes: 0 success, 1 bad input, 2 the analysis gave up, 3 a reference check failed.
+#include <CLI/CLI.hpp>
+#include <omp.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
+#include "signorini/io/deck.hpp"
+#include "signorini/io/results_writer.hpp"
+#include "signorini/version.hpp"
+
+using namespace signorini;
+
+namespace {
+
+void print_model(const Model& m, const DeckReport& rep) {
+  Index nset = m.mesh.node_sets.size(), fset = m.mesh.facet_sets.size();
+  fmt::print("Model '{}'\n", m.title);
+  fmt::print("  analysis   {} , {}{}\n", to_string(m.settings.dimension),
+             m.settings.finite_strain ? "finite strain (total Lagrangian)" : "small strain",
+             (m.settings.dimension == Dimension::plane_strain || m.settings.dimension == Dimension::plane_stress)
+                 ? fmt::format(", thickness {}", m.settings.thickness)
+                 : std::string());
+  fmt::print("  mesh       {} nodes, {} cells, {} node sets, {} facet sets\n", m.mesh.num_nodes(), m.mesh.num_cells(),
+             nset, fset);
+  if (rep.reoriented_cells) fmt::print("             {} cells had clockwise/mirrored node order and were re-ordered\n", rep.reoriented_cells);
+  if (rep.orphan_facets) fmt::print("             {} facets belong to no cell (their orientation is as given)\n", rep.orphan_facets);
+  for (auto& b : m.bodies) {
+    std::string types;
+    for (auto& blk : b->blocks()) types += (types.empty() ? "" : "+") + element_info(blk.type).name;
+    fmt::print("  body       {}: {} cells ({}), material {} (E = {:g})\n", b->name(), b->num_cells(), types,
+               b->material().model(), b->material().stiffness_scale());
+  }
+  for (auto& s : m.steps)
+    fmt::print("  step       {}: {} Dirichlet conditions, {} loads, increments {:g} [{:g}, {:g}]\n", s.name,
+               s.dirichlet.size(), s.loads.size(), s.initial_increment, s.min_increment, s.max_increment);
+  fmt::print("  solver     linear {}, Newton up to {} iterations, relative tolerance {:g}\n", m.linear_solver,
+             m.newton.max_iterations, m.newton.residual_tolerance);
+}
+
+int run(const std::string& deck, const std::string& outdir, bool check_only) {
+  const Registry registry = default_registry();
+  DeckReport rep;
+  Model model = read_deck(deck, registry, &rep);
+  print_model(model, rep);
+  if (check_only) {
+    fmt::print("Deck and mesh are valid; nothing solved ('signorini run' solves).\n");
+    return 0;
+  }
+  const std::string dir = outdir.empty() ? model.output.directory : outdir;
+  ResultsWriter writer(model, dir);
+  Analysis analysis(model);
+  fmt::print("  unknowns   {} DOFs, {} threads\n", analysis.dofs().num_dofs(), omp_get_max_threads());
+  std::fflush(stdout);
+  analysis.on_increment([&](const Analysis& a, const IncrementRecord& r) { writer.write_increment(a, r); });
+  AnalysisSummary s = analysis.run();
+  auto checks = evaluate_checks(analysis);
+  writer.finish(analysis, s, checks);
+  fmt::print("\n");
+  if (!s.completed) {
+    fmt::print("Analysis gave up: {}\n", s.failure);
+    fmt::print("Results up to the last converged increment: {}/ (ParaView: {})\n", dir, writer.pvd_path());
+    return 2;
+  }
+  fmt::print("Solved '{}': {} steps, {} increments, {} Newton iterations, {:.2f} s (assembly {:.2f} s, linear solve "
+             "{:.2f} s), peak memory {:.0f} MiB\n",
+             model.title, model.steps.size(), s.increments.size(), s.total_iterations, s.total_seconds,
+             s.assembly_seconds, s.solve_seconds, log::peak_memory_mib());
+  bool all = true;
+  if (!checks.empty()) {
+    fmt::print("\nComparison with the reference:\n");
+    fmt::print("  {:<44} {:>14} {:>14} {:>10} {:>8}  {}\n", "quantity", "computed", "reference", "error", "tol", "");
+    for (auto& c : checks) {
+      fmt::print("  {:<44} {:>14.6e} {:>14.6e} {:>9.3f}% {:>7.2f}%  {}\n", c.check.name, c.computed, c.check.expected,
+                 100 * c.error, 100 * c.check.tolerance, c.pass ? "ok" : "FAILED");
+      all = all && c.pass;
+    }
+    for (auto& c : checks)
+      if (!c.check.reference.empty()) {
+        fmt::print("  reference: {}\n", c.check.reference);
+        break;
+      }
+  }
+  fmt::print("\nResults in {}/: ParaView {}, reactions {}/reactions.csv, summary {}/summary.json\n", dir,
+             writer.pvd_path(), dir, dir);
+  return all ? 0 : 3;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Signorini: finite element solver for contact mechanics"};
+  app.set_version_flag("--version", std::string("signorini ") + SIGNORINI_VERSION);
+  app.require_subcommand(1);
+  std::string deck, outdir, type;
+  int threads = 0;
+  bool quiet = false, verbose = false;
+  auto* run_cmd = app.add_subcommand("run", "solve a deck");
+  run_cmd->add_option("deck", deck, "deck file (.yaml)")->required();
+  run_cmd->add_option("-o,--output", outdir, "output directory (default: the deck's output.directory)");
+  run_cmd->add_option("--threads", threads, "number of threads (default: all cores)")->check(CLI::Range(1, 1024));
+  run_cmd->add_flag("-q,--quiet", quiet, "print only warnings, errors and the final summary");
+  run_cmd->add_flag("-v,--verbose", verbose, "print debugging output (Gmsh's too)");
+  auto* check_cmd = app.add_subcommand("check", "read a deck and its mesh, print the model, solve nothing");
+  check_cmd->add_option("deck", deck, "deck file (.yaml)")->required();
+  auto* describe_cmd = app.add_subcommand("describe", "print the parameters of a registered type or deck section");
+  describe_cmd->add_option("type", type, "type name (no name: list them all)");
+  CLI11_PARSE(app, argc, argv);
+
+  if (threads > 0) omp_set_num_threads(threads);
+  if (quiet) log::set_level(log::Level::warning);
+  if (verbose) log::set_level(log::Level::debug);
+  try {
+    if (describe_cmd->parsed()) {
+      const Registry r = default_registry();
+      if (type.empty()) {
+        for (auto* s : r.all()) fmt::print("{:<14} {:<16} {}\n", s->category, s->name, s->doc);
+        return 0;
+      }
+      const TypeSpec* s = r.find_any(type);
+      if (!s) {
+        std::string names;
+        for (auto* t : r.all()) names += (names.empty() ? "" : ", ") + t->name;
+        fmt::print(stderr, "error: no type named '{}' (known: {})\n", type, names);
+        return 1;
+      }
+      fmt::print("{}", r.describe(*s));
+      return 0;
+    }
+    return run(deck, outdir, check_cmd->parsed());
+  } catch (const InputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 1;
+  } catch (const SolverError& e) {
+    fmt::print(stderr, "error: the analysis failed: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 1;
+  }
+}

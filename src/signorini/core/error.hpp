@@ -1,0 +1,35 @@
+// Errors carry context (file, line, key) so that the command line can print one clear
+// message. Input errors (the user's) and solver failures (the problem's) are separate types.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace signorini {
+
+// Generic error with a message that is already meant for the user.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An error in the user's input: deck, mesh or command line. `where` is "file:line" or
+// "file" when no line is known; `key` is the dotted path of the deck key, if any.
+class InputError : public Error {
+ public:
+  InputError(std::string where, std::string key, const std::string& what);
+  const std::string& where() const { return where_; }
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string where_;
+  std::string key_;
+};
+
+// The analysis could not go on (Newton diverged below the minimum increment, singular
+// system, ...). The message says why.
+class SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace signorini

@@ -1,0 +1,45 @@
+#include "signorini/core/log.hpp"
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+namespace signorini::log {
+
+namespace {
+std::atomic<Level> g_level{Level::info};
+std::mutex g_mutex;
+const auto g_start = std::chrono::steady_clock::now();
+}  // namespace
+
+void set_level(Level l) { g_level = l; }
+Level level() { return g_level; }
+
+void write(Level l, const std::string& text) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  const char* prefix = l == Level::warning ? "warning: " : (l == Level::error ? "error: " : "");
+  std::fprintf(stderr, "%s%s\n", prefix, text.c_str());
+  std::fflush(stderr);
+}
+
+double elapsed() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - g_start).count();
+}
+
+double peak_memory_mib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::istringstream s(line.substr(6));
+      double kb = 0;
+      s >> kb;
+      return kb / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace signorini::log

@@ -1,0 +1,327 @@
+#include "signorini/fem/body.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "signorini/core/error.hpp"
+#include "signorini/fem/shape.hpp"
+
+namespace signorini {
+
+Body::Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<const Material> material,
+           AnalysisSettings settings)
+    : name_(std::move(name)), blocks_(std::move(blocks)), material_(std::move(material)), settings_(settings) {
+  Index offset = 0;
+  const int hs = material_->history_size();
+  for (auto& b : blocks_) {
+    BlockCache c;
+    c.rule = quadrature_rule(b.type, default_quadrature_degree(b.type));
+    for (auto& q : c.rule) {
+      VecX N;
+      MatX dN;
+      shape_functions(b.type, q.xi, N, dN);
+      c.N.push_back(N);
+      c.dN.push_back(dN);
+    }
+    c.history_offset = offset;
+    offset += b.size() * static_cast<Index>(c.rule.size()) * hs;
+    caches_.push_back(std::move(c));
+  }
+  history_.assign(offset, 0.0);
+  trial_ = history_;
+}
+
+Index Body::num_cells() const {
+  Index n = 0;
+  for (auto& b : blocks_) n += b.size();
+  return n;
+}
+
+const Body::BlockCache& Body::cache(ElementType t) const {
+  for (size_t i = 0; i < blocks_.size(); ++i)
+    if (blocks_[i].type == t) return caches_[i];
+  throw Error("body " + name_ + " has no block of type " + element_info(t).name);
+}
+
+void Body::element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue, const Real* hist_old,
+                   Real* hist_new, VecX& fe, MatX* ke, Vec6* mean_stress, Vec6* mean_strain) const {
+  const BlockCache& c = cache(type);
+  const int nn = static_cast<int>(Xe.size());
+  const int dim = settings_.spatial_dim();
+  const int ndof = nn * dim;
+  const bool finite = settings_.finite_strain;
+  const bool axi = settings_.dimension == Dimension::axisymmetric;
+  const bool pstress = settings_.dimension == Dimension::plane_stress;
+  const int hs = material_->history_size();
+  fe.setZero(ndof);
+  if (ke) ke->setZero(ndof, ndof);
+  if (mean_stress) mean_stress->setZero();
+  if (mean_strain) mean_strain->setZero();
+  Eigen::Matrix<Real, 6, Eigen::Dynamic> B(6, ndof);
+  MatX G(nn, 3);
+  Real total_weight = 0;
+  for (size_t q = 0; q < c.rule.size(); ++q) {
+    const VecX& N = c.N[q];
+    const MatX& dN = c.dN[q];
+    // Reference Jacobian dX/dxi and gradients dN/dX.
+    Mat3 J = Mat3::Identity();
+    J.topLeftCorner(dim, dim).setZero();
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int d = 0; d < dim; ++d) J(i, d) += Xe[a](i) * dN(a, d);
+    const Real detJ = J.determinant();
+    if (!(detJ > 0)) throw SolverError("body " + name_ + ": element with non-positive Jacobian");
+    const Mat3 Jinv = J.inverse();
+    G.setZero();
+    for (int a = 0; a < nn; ++a)
+      for (int d = 0; d < dim; ++d)
+        for (int i = 0; i < dim; ++i) G(a, d) += dN(a, i) * Jinv(i, d);
+    Real R = 0;
+    if (axi) {
+      for (int a = 0; a < nn; ++a) R += N(a) * Xe[a](0);
+      if (!(R > 0)) throw SolverError("body " + name_ + ": axisymmetric cell at r <= 0 (r = x must be positive)");
+    }
+    // Displacement gradient H = du/dX (3x3, zero padded; hoop strain u_r / R in axisymmetry).
+    Mat3 H = Mat3::Zero();
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int d = 0; d < dim; ++d) H(i, d) += ue(a * dim + i) * G(a, d);
+    if (axi) {
+      Real ur = 0;
+      for (int a = 0; a < nn; ++a) ur += N(a) * ue(a * dim);
+      H(2, 2) = ur / R;
+    }
+    MaterialInput in;
+    in.finite = finite;
+    const Index qoff = static_cast<Index>(q) * hs;
+    in.history_old = hist_old ? hist_old + qoff : nullptr;
+    in.history_new = hist_new ? hist_new + qoff : nullptr;
+    Mat3 F = Mat3::Identity() + H;
+    Vec6 S;
+    Mat6 D;
+    auto evaluate = [&]() {
+      if (finite) {
+        in.F = F;
+        in.strain = to_voigt_strain(0.5 * (F.transpose() * F - Mat3::Identity()));
+      } else {
+        in.strain = to_voigt_strain(0.5 * (H + H.transpose()));
+      }
+      material_->compute(in, S, D);
+    };
+    evaluate();
+    if (pstress) {
+      // Plane stress: find the out-of-plane stretch (or strain) with S33 = 0 by a local
+      // Newton iteration, then condense the tangent (S33 stays zero to first order).
+      for (int it = 0; it < 25 && std::abs(S(2)) > 1e-12 * (S.norm() + material_->stiffness_scale() * 1e-12); ++it) {
+        if (finite) {
+          F(2, 2) -= S(2) / (D(2, 2) * F(2, 2));
+          H(2, 2) = F(2, 2) - 1;
+        } else {
+          H(2, 2) -= S(2) / D(2, 2);
+        }
+        evaluate();
+      }
+      const Real d22 = D(2, 2);
+      const Vec6 col = D.col(2), row = D.row(2).transpose();
+      for (int a = 0; a < 6; ++a)
+        for (int b = 0; b < 6; ++b) D(a, b) -= col(a) * row(b) / d22;
+      D.row(2).setZero();
+      D.col(2).setZero();
+      S(2) = 0;
+    }
+    const Mat3 Fb = finite ? F : Mat3::Identity();
+    // B: variation of the strain (Voigt, engineering) per nodal DOF, delta E = sym(F^T delta H).
+    for (int a = 0; a < nn; ++a) {
+      const Real g0 = G(a, 0), g1 = G(a, 1), g2 = dim == 3 ? G(a, 2) : 0.0;
+      for (int i = 0; i < dim; ++i) {
+        const int col = a * dim + i;
+        const Real f0 = Fb(i, 0), f1 = Fb(i, 1), f2 = Fb(i, 2);
+        B(0, col) = f0 * g0;
+        B(1, col) = f1 * g1;
+        B(2, col) = f2 * g2;
+        B(3, col) = f1 * g2 + f2 * g1;
+        B(4, col) = f0 * g2 + f2 * g0;
+        B(5, col) = f0 * g1 + f1 * g0;
+      }
+      if (axi) B(2, a * dim) += Fb(2, 2) * N(a) / R;
+    }
+    Real dV = detJ * c.rule[q].weight;
+    if (axi) dV *= 2 * std::numbers::pi * R;
+    else if (dim == 2) dV *= settings_.thickness;
+    fe.noalias() += B.transpose() * (S * dV);
+    if (ke) {
+      ke->noalias() += B.transpose() * (D * dV) * B;
+      if (finite) {
+        const Mat3 Sm = from_voigt_stress(S);
+        for (int a = 0; a < nn; ++a)
+          for (int b = 0; b < nn; ++b) {
+            Real gsg = 0;
+            for (int I = 0; I < dim; ++I)
+              for (int K = 0; K < dim; ++K) gsg += G(a, I) * Sm(I, K) * G(b, K);
+            gsg *= dV;
+            for (int i = 0; i < dim; ++i) (*ke)(a * dim + i, b * dim + i) += gsg;
+            if (axi) (*ke)(a * dim, b * dim) += Sm(2, 2) * N(a) * N(b) / (R * R) * dV;
+          }
+      }
+    }
+    if (mean_stress || mean_strain) {
+      const Real w = dV;
+      total_weight += w;
+      if (mean_stress) {
+        Vec6 sigma = S;
+        if (finite) {
+          const Mat3 Sm = from_voigt_stress(S);
+          sigma = to_voigt_stress(F * Sm * F.transpose() / F.determinant());
+        }
+        *mean_stress += w * sigma;
+      }
+      if (mean_strain) {
+        Vec6 e = finite ? to_voigt_strain(0.5 * (F.transpose() * F - Mat3::Identity()))
+                        : to_voigt_strain(0.5 * (H + H.transpose()));
+        e.tail<3>() *= 0.5;  // tensor components for output
+        *mean_strain += w * e;
+      }
+    }
+  }
+  if (total_weight > 0) {
+    if (mean_stress) *mean_stress /= total_weight;
+    if (mean_strain) *mean_strain /= total_weight;
+  }
+}
+
+namespace {
+// Gathers the nodal coordinates, displacements and DOFs of one cell.
+void gather(const ElementBlock& b, Index e, const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
+            std::vector<Vec3>& Xe, VecX& ue, std::vector<Index>& edofs) {
+  const int nn = b.nodes_per_element(), dim = dofs.dofs_per_node();
+  const Index* c = b.element(e);
+  Xe.resize(nn);
+  ue.resize(nn * dim);
+  edofs.resize(nn * dim);
+  for (int a = 0; a < nn; ++a) {
+    Xe[a] = X[c[a]];
+    for (int i = 0; i < dim; ++i) {
+      edofs[a * dim + i] = dofs.dof(c[a], i);
+      ue(a * dim + i) = u(edofs[a * dim + i]);
+    }
+  }
+}
+}  // namespace
+
+void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint,
+                    GlobalMatrix* matrix) {
+  const int hs = material_->history_size();
+  for (size_t bi = 0; bi < blocks_.size(); ++bi) {
+    const ElementBlock& b = blocks_[bi];
+    const BlockCache& c = caches_[bi];
+    const Index nq = static_cast<Index>(c.rule.size());
+    std::string failure;
+#pragma omp parallel
+    {
+      std::vector<Vec3> Xe;
+      VecX ue, fe;
+      MatX ke;
+      std::vector<Index> edofs;
+#pragma omp for schedule(static)
+      for (Index e = 0; e < b.size(); ++e) {
+        try {
+          gather(b, e, X, u, dofs, Xe, ue, edofs);
+          const Index off = c.history_offset + e * nq * hs;
+          element(b.type, Xe, ue, hs ? history_.data() + off : nullptr, hs ? trial_.data() + off : nullptr, fe,
+                  matrix ? &ke : nullptr);
+          for (size_t k = 0; k < edofs.size(); ++k) {
+#pragma omp atomic
+            fint(edofs[k]) += fe(k);
+          }
+          if (matrix) matrix->add(edofs.data(), static_cast<int>(edofs.size()), ke);
+        } catch (const std::exception& ex) {
+#pragma omp critical
+          if (failure.empty()) failure = std::string(ex.what()) + " (element " + std::to_string(b.ids[e]) + ")";
+        }
+      }
+    }
+    if (!failure.empty()) throw SolverError(failure);
+  }
+}
+
+void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& bf, Real scale,
+                          VecX& fext) const {
+  const int dim = dofs.dofs_per_node();
+  const bool axi = settings_.dimension == Dimension::axisymmetric;
+  for (size_t bi = 0; bi < blocks_.size(); ++bi) {
+    const ElementBlock& b = blocks_[bi];
+    const BlockCache& c = caches_[bi];
+    const int nn = b.nodes_per_element();
+    for (Index e = 0; e < b.size(); ++e) {
+      const Index* cn = b.element(e);
+      for (size_t q = 0; q < c.rule.size(); ++q) {
+        Mat3 J = Mat3::Identity();
+        J.topLeftCorner(dim, dim).setZero();
+        Real R = 0;
+        for (int a = 0; a < nn; ++a) {
+          R += c.N[q](a) * X[cn[a]](0);
+          for (int i = 0; i < dim; ++i)
+            for (int d = 0; d < dim; ++d) J(i, d) += X[cn[a]](i) * c.dN[q](a, d);
+        }
+        Real dV = J.determinant() * c.rule[q].weight;
+        if (axi) dV *= 2 * std::numbers::pi * R;
+        else if (dim == 2) dV *= settings_.thickness;
+        for (int a = 0; a < nn; ++a)
+          for (int i = 0; i < dim; ++i) fext(dofs.dof(cn[a], i)) += scale * c.N[q](a) * bf(i) * dV;
+      }
+    }
+  }
+}
+
+Real Body::volume(const std::vector<Vec3>& X) const {
+  DofMap dofs(static_cast<Index>(X.size()), settings_.spatial_dim(),
+              [&] {
+                std::vector<const ElementBlock*> v;
+                for (auto& b : blocks_) v.push_back(&b);
+                return v;
+              }());
+  VecX f = VecX::Zero(dofs.num_dofs());
+  add_body_force(X, dofs, Vec3(1, 0, 0), 1.0, f);
+  Real s = 0;
+  for (Index i = 0; i < f.size(); i += dofs.dofs_per_node()) s += f(i);
+  return s;
+}
+
+CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs) const {
+  CellResults r;
+  const int hs = material_->history_size();
+  std::vector<Real> scratch;
+  for (size_t bi = 0; bi < blocks_.size(); ++bi) {
+    const ElementBlock& b = blocks_[bi];
+    const BlockCache& c = caches_[bi];
+    const Index nq = static_cast<Index>(c.rule.size());
+    const Index start = static_cast<Index>(r.stress.size());
+    r.stress.resize(start + b.size());
+    r.strain.resize(start + b.size());
+    r.von_mises.resize(start + b.size());
+#pragma omp parallel
+    {
+      std::vector<Vec3> Xe;
+      VecX ue, fe;
+      std::vector<Index> edofs;
+      std::vector<Real> hnew(nq * hs);
+#pragma omp for schedule(static)
+      for (Index e = 0; e < b.size(); ++e) {
+        gather(b, e, X, u, dofs, Xe, ue, edofs);
+        const Index off = c.history_offset + e * nq * hs;
+        Vec6 s, eps;
+        element(b.type, Xe, ue, hs ? history_.data() + off : nullptr, hs ? hnew.data() : nullptr, fe, nullptr, &s,
+                &eps);
+        r.stress[start + e] = s;
+        r.strain[start + e] = eps;
+        r.von_mises[start + e] =
+            std::sqrt(0.5 * ((s(0) - s(1)) * (s(0) - s(1)) + (s(1) - s(2)) * (s(1) - s(2)) +
+                             (s(2) - s(0)) * (s(2) - s(0))) +
+                      3 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5)));
+      }
+    }
+  }
+  return r;
+}
+
+}  // namespace signorini

@@ -1,0 +1,73 @@
+// A body: the cells of one region with one material. It computes internal forces, the
+// tangent and per-cell results for a given displacement, for every analysis type
+// (plane strain, plane stress, axisymmetric, 3D) and both small and finite strain.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "signorini/fem/analysis_settings.hpp"
+#include "signorini/fem/dof_map.hpp"
+#include "signorini/fem/global_system.hpp"
+#include "signorini/fem/quadrature.hpp"
+#include "signorini/material/material.hpp"
+#include "signorini/mesh/mesh.hpp"
+
+namespace signorini {
+
+// Per-cell averages over the quadrature points, for output.
+struct CellResults {
+  std::vector<Vec6> stress;   // Cauchy stress (Voigt, no engineering factor)
+  std::vector<Vec6> strain;   // small strain or Green-Lagrange (tensor components)
+  std::vector<Real> von_mises;
+};
+
+class Body {
+ public:
+  Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<const Material> material,
+       AnalysisSettings settings);
+
+  const std::string& name() const { return name_; }
+  const std::vector<ElementBlock>& blocks() const { return blocks_; }
+  const Material& material() const { return *material_; }
+  Index num_cells() const;
+
+  // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
+  // tangent. Writes trial history; throws SolverError on a non-physical state.
+  void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint,
+                GlobalMatrix* matrix);
+  // Adds the consistent nodal forces of a dead body force b (per unit reference volume).
+  void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,
+                      VecX& fext) const;
+  // Per-cell averages of stress and strain at the state `u` (uses committed history).
+  CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs) const;
+  // Reference volume (area times thickness, or with 2 pi r in axisymmetry).
+  Real volume(const std::vector<Vec3>& X) const;
+
+  void commit() { history_ = trial_; }
+  void revert() { trial_ = history_; }
+
+  // Element kernel: residual and tangent of one cell, exposed for tangent tests.
+  // Xe: nodal reference coordinates, ue: nodal displacements (ndpn per node, node-major).
+  void element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue, const Real* hist_old,
+               Real* hist_new, VecX& fe, MatX* ke, Vec6* mean_stress = nullptr,
+               Vec6* mean_strain = nullptr) const;
+
+ private:
+  struct BlockCache {
+    QuadratureRule rule;
+    std::vector<VecX> N;
+    std::vector<MatX> dN;
+    Index history_offset = 0;  // into history_, per block
+  };
+  const BlockCache& cache(ElementType t) const;
+
+  std::string name_;
+  std::vector<ElementBlock> blocks_;
+  std::shared_ptr<const Material> material_;
+  AnalysisSettings settings_;
+  std::vector<BlockCache> caches_;  // one per block
+  std::vector<Real> history_, trial_;
+};
+
+}  // namespace signorini

@@ -1,0 +1,90 @@
+// The Model: everything the deck describes, as plain data. It owns the mesh, the bodies
+// and the steps; the Analysis reads it and owns the iteration state.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "signorini/fem/analysis_settings.hpp"
+#include "signorini/fem/body.hpp"
+#include "signorini/mesh/mesh.hpp"
+
+namespace signorini {
+
+// A prescribed displacement component on a node set. Its value over the step goes
+// linearly from `start` (or, if not given, the value the DOF has when the step begins)
+// to `end`.
+struct DirichletCondition {
+  std::string set;
+  int component = 0;
+  std::optional<Real> start;
+  Real end = 0;
+  std::string where;  // deck location
+};
+
+enum class LoadKind { nodal_force, traction, pressure, body_force };
+
+// A load, ramped over its step from the value it had at the end of the previous step
+// (loads not listed in a step are removed, ramped to zero).
+struct Load {
+  LoadKind kind = LoadKind::nodal_force;
+  std::string set;        // node set, facet set, or body name (body force)
+  Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
+  Real pressure = 0;
+  std::string where;
+};
+
+struct Step {
+  std::string name;
+  Real initial_increment = 1.0;  // fractions of the step
+  Real min_increment = 1e-5;
+  Real max_increment = 1.0;
+  int max_increments = 10000;
+  std::vector<DirichletCondition> dirichlet;
+  std::vector<Load> loads;
+};
+
+struct NewtonSettings {
+  int max_iterations = 25;
+  Real residual_tolerance = 1e-8;     // relative to the force scale of the problem
+  Real absolute_tolerance = 0;        // in force units; 0: only the relative test
+  Real energy_tolerance = 1e-16;      // |du . R| relative to the first iteration's
+  bool line_search = true;
+  Real cutback_factor = 0.5;
+  Real growth_factor = 1.5;
+  int easy_iterations = 5;            // grow the increment after convergence in <= this
+};
+
+struct OutputSettings {
+  std::string directory = "results";
+  std::string vtu = "every_increment";  // every_increment, last, none
+};
+
+// A reference value to compare with after the run (deck `checks:`).
+struct Check {
+  std::string name;
+  std::string kind;      // displacement (at the node nearest `point`) or reaction (set sum)
+  std::string set;
+  Vec3 point = Vec3::Zero();
+  int component = 0;
+  Real expected = 0;
+  Real tolerance = 0.01;  // relative
+  std::string reference;  // where the expected value comes from
+  std::string where;
+};
+
+struct Model {
+  std::string title;
+  std::string deck_path;
+  AnalysisSettings settings;
+  Mesh mesh;
+  std::vector<std::unique_ptr<Body>> bodies;
+  std::vector<Step> steps;
+  NewtonSettings newton;
+  std::string linear_solver = "auto";
+  OutputSettings output;
+  std::vector<Check> checks;
+};
+
+}  // namespace signorini

@@ -1,0 +1,413 @@
+#include "signorini/io/deck.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+
+#include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
+#include "signorini/mesh/gmsh_reader.hpp"
+
+namespace signorini {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A YAML node with its place in the deck, for messages.
+struct Node {
+  YAML::Node node;
+  std::string file;
+  std::string path;  // dotted key path
+
+  std::string where() const {
+    const auto m = node.Mark();
+    return m.line >= 0 ? file + ":" + std::to_string(m.line + 1) : file;
+  }
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(where(), path, what); }
+  Node child(const std::string& key) const {
+    return {node[key], file, path.empty() ? key : path + "." + key};
+  }
+  Node at(size_t i) const { return {node[i], file, path + "[" + std::to_string(i) + "]"}; }
+  bool has(const std::string& key) const { return node.IsMap() && node[key].IsDefined() && !node[key].IsNull(); }
+
+  void expect_map() const {
+    if (!node.IsMap()) fail("expected a mapping of keys (key: value)");
+  }
+  void expect_list() const {
+    if (!node.IsSequence()) fail("expected a list");
+  }
+  // Rejects keys the spec does not declare, and checks required ones are present.
+  void check_keys(const TypeSpec& spec) const {
+    expect_map();
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string k = it->first.as<std::string>();
+      if (!spec.param(k)) {
+        std::string allowed;
+        for (auto& p : spec.params) allowed += (allowed.empty() ? "" : ", ") + p.name;
+        Node bad{it->first, file, path.empty() ? k : path + "." + k};
+        bad.fail("unknown key '" + k + "' in " + spec.name + " (allowed: " + allowed + ")");
+      }
+    }
+    for (auto& p : spec.params)
+      if (p.required() && !has(p.name)) fail("missing required key '" + p.name + "' (" + p.doc + ")");
+  }
+  Real as_number() const {
+    if (!node.IsScalar()) fail("expected a number");
+    try {
+      return node.as<Real>();
+    } catch (const YAML::Exception&) {
+      fail("expected a number, got '" + node.as<std::string>() + "'");
+    }
+  }
+  std::string as_string() const {
+    if (!node.IsScalar()) fail("expected a text value");
+    return node.as<std::string>();
+  }
+  bool as_bool() const {
+    try {
+      return node.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail("expected true or false");
+    }
+  }
+  // Validated number with the spec's default.
+  Real number(const TypeSpec& spec, const std::string& key) const {
+    const ParamSpec* p = spec.param(key);
+    if (!has(key)) return std::stod(*p->default_text);
+    Node c = child(key);
+    Real v = c.as_number();
+    std::string bad = p->check_number(v);
+    if (!bad.empty()) c.fail("got " + fmt::format("{}", v) + ", expected " + bad);
+    return v;
+  }
+  std::string text(const TypeSpec& spec, const std::string& key) const {
+    const ParamSpec* p = spec.param(key);
+    if (!has(key)) {
+      std::string d = p->default_text.value_or("");
+      return d == "\"\"" ? "" : d;
+    }
+    Node c = child(key);
+    std::string v = c.as_string();
+    if (!p->choices.empty() && std::find(p->choices.begin(), p->choices.end(), v) == p->choices.end())
+      c.fail("got '" + v + "', expected " + p->range_text());
+    return v;
+  }
+  Vec3 vector(int dim) const {
+    expect_list();
+    if (static_cast<int>(node.size()) != dim && !(dim == 2 && node.size() == 3))
+      fail("expected a list of " + std::to_string(dim) + " numbers");
+    Vec3 v = Vec3::Zero();
+    for (size_t i = 0; i < node.size(); ++i) v(i) = at(i).as_number();
+    return v;
+  }
+};
+
+const TypeSpec& deck_spec(const Registry& r, const std::string& name) {
+  const TypeSpec* s = r.find("deck", name);
+  if (!s) throw Error("internal: deck section '" + name + "' is not registered");
+  return *s;
+}
+
+void read_analysis(const Node& n, const Registry& r, Model& m) {
+  const TypeSpec& spec = deck_spec(r, "analysis");
+  n.check_keys(spec);
+  const std::string d = n.text(spec, "dimension");
+  m.settings.dimension = d == "plane_strain"   ? Dimension::plane_strain
+                         : d == "plane_stress" ? Dimension::plane_stress
+                         : d == "axisymmetric" ? Dimension::axisymmetric
+                                               : Dimension::three_d;
+  m.settings.finite_strain = n.text(spec, "kinematics") == "finite_strain";
+  m.settings.thickness = n.number(spec, "thickness");
+  if (n.has("thickness") && (m.settings.dimension == Dimension::axisymmetric || m.settings.dimension == Dimension::three_d))
+    n.child("thickness").fail("thickness applies to plane_strain and plane_stress only");
+}
+
+void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
+  const TypeSpec& spec = deck_spec(r, "mesh");
+  n.check_keys(spec);
+  GmshOptions opt;
+  opt.where = n.child("file").where();
+  if (n.has("parameters")) {
+    Node p = n.child("parameters");
+    p.expect_map();
+    for (auto it = p.node.begin(); it != p.node.end(); ++it) {
+      const std::string k = it->first.as<std::string>();
+      opt.parameters[k] = p.child(k).as_number();
+    }
+  }
+  opt.order = static_cast<int>(n.number(spec, "order"));
+  fs::path file = n.child("file").as_string();
+  if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
+  m.mesh = read_gmsh(file.string(), opt);
+  const int dim = m.settings.spatial_dim();
+  if (m.mesh.dim != dim)
+    n.child("file").fail(fmt::format("the mesh has {}D cells but the analysis is {} ({}D)", m.mesh.dim,
+                                     to_string(m.settings.dimension), dim));
+  MeshCheck chk = check_and_orient(m.mesh);
+  auto ids = [](const std::vector<Index>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size() && i < 20; ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+    if (v.size() > 20) s += fmt::format(", ... ({} in all)", v.size());
+    return s;
+  };
+  if (!chk.inverted.empty())
+    n.child("file").fail("inverted or badly distorted elements (Jacobian changes sign), ids: " + ids(chk.inverted));
+  if (!chk.degenerate.empty())
+    n.child("file").fail("degenerate elements (zero area or volume), ids: " + ids(chk.degenerate));
+  rep.reoriented_cells = chk.reoriented;
+  rep.orphan_facets = orient_facets(m.mesh);
+  m.mesh.complete_node_sets();
+}
+
+void read_materials_and_bodies(const Node& mats, const Node& bodies, const Registry& r, Model& m) {
+  mats.expect_map();
+  std::map<std::string, std::shared_ptr<Material>> materials;
+  for (auto it = mats.node.begin(); it != mats.node.end(); ++it) {
+    const std::string name = it->first.as<std::string>();
+    Node mn = mats.child(name);
+    mn.expect_map();
+    if (!mn.has("model")) mn.fail("missing key 'model' (one of: " + fmt::format("{}", fmt::join(r.names("material"), ", ")) + ")");
+    const std::string model = mn.child("model").as_string();
+    const TypeSpec* spec = r.find("material", model);
+    if (!spec)
+      mn.child("model").fail("unknown material model '" + model +
+                             "' (known: " + fmt::format("{}", fmt::join(r.names("material"), ", ")) + ")");
+    mn.check_keys(*spec);
+    ParamValues pv;
+    for (auto& p : spec->params)
+      if (p.kind == ParamKind::number || p.kind == ParamKind::integer) pv[p.name] = mn.number(*spec, p.name);
+    materials[name] = r.make_material(model, pv);
+  }
+  bodies.expect_list();
+  if (bodies.node.size() == 0) bodies.fail("at least one body is needed");
+  const TypeSpec& bspec = deck_spec(r, "body");
+  std::set<std::string> used_regions, names;
+  for (size_t i = 0; i < bodies.node.size(); ++i) {
+    Node b = bodies.at(i);
+    b.check_keys(bspec);
+    const std::string name = b.text(bspec, "name"), region = b.text(bspec, "region"), mat = b.text(bspec, "material");
+    if (!names.insert(name).second) b.child("name").fail("two bodies are named '" + name + "'");
+    auto rit = m.mesh.regions.find(region);
+    if (rit == m.mesh.regions.end())
+      b.child("region").fail("no region (physical group of " + std::to_string(m.mesh.dim) + "D cells) named '" +
+                             region + "' in the mesh (regions: " + m.mesh.region_names() + ")");
+    if (!used_regions.insert(region).second) b.child("region").fail("region '" + region + "' is used by two bodies");
+    auto mit = materials.find(mat);
+    if (mit == materials.end()) {
+      std::string known;
+      for (auto& [k, v] : materials) known += (known.empty() ? "" : ", ") + k;
+      b.child("material").fail("no material named '" + mat + "' (materials: " + known + ")");
+    }
+    if (m.settings.dimension == Dimension::axisymmetric)
+      for (auto& blk : rit->second)
+        for (Index node : blk.conn)
+          if (m.mesh.nodes[node](0) < -1e-12)
+            b.child("region").fail("axisymmetric analysis needs x = r >= 0, but region '" + region +
+                                   "' has nodes at negative x");
+    m.bodies.push_back(std::make_unique<Body>(name, rit->second, mit->second, m.settings));
+  }
+}
+
+std::string component_name(int c) { return std::string(1, "xyz"[c]); }
+
+void read_value(const Node& v, DirichletCondition& d) {
+  if (v.node.IsMap()) {
+    v.expect_map();
+    for (auto it = v.node.begin(); it != v.node.end(); ++it)
+      if (it->first.as<std::string>() != "ramp") v.fail("a prescribed value is a number or {ramp: [start, end]}");
+    Node r = v.child("ramp");
+    r.expect_list();
+    if (r.node.size() != 2) r.fail("expected [start, end]");
+    d.start = r.at(0).as_number();
+    d.end = r.at(1).as_number();
+  } else {
+    d.end = v.as_number();
+  }
+}
+
+void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
+  const TypeSpec& spec = deck_spec(r, "step");
+  s.check_keys(spec);
+  Step step;
+  step.name = s.has("name") ? s.child("name").as_string() : "step" + std::to_string(index + 1);
+  const int dim = m.settings.spatial_dim();
+  if (s.has("increments")) {
+    const TypeSpec& is = deck_spec(r, "increments");
+    Node inc = s.child("increments");
+    inc.check_keys(is);
+    step.initial_increment = inc.number(is, "initial");
+    step.min_increment = inc.number(is, "min");
+    step.max_increment = inc.number(is, "max");
+    step.max_increments = static_cast<int>(inc.number(is, "max_count"));
+    if (step.min_increment > step.initial_increment) inc.child("min").fail("min is larger than initial");
+    if (step.initial_increment > step.max_increment) inc.child("initial").fail("initial is larger than max");
+  }
+  if (s.has("boundary")) {
+    Node bl = s.child("boundary");
+    bl.expect_list();
+    const TypeSpec& bs = deck_spec(r, "boundary");
+    for (size_t i = 0; i < bl.node.size(); ++i) {
+      Node b = bl.at(i);
+      b.check_keys(bs);
+      const std::string set = b.text(bs, "set");
+      if (!m.mesh.node_sets.count(set))
+        b.child("set").fail("no node set named '" + set + "' in the mesh (sets: " + m.mesh.node_set_names() + ")");
+      bool any = false;
+      if (b.has("u")) {
+        Node u = b.child("u");
+        u.expect_list();
+        if (static_cast<int>(u.node.size()) != dim) u.fail("expected " + std::to_string(dim) + " components");
+        for (int c = 0; c < dim; ++c) {
+          DirichletCondition d{set, c, std::nullopt, 0, u.at(c).where()};
+          if (u.at(c).node.IsNull()) continue;  // ~ leaves that component free
+          read_value(u.at(c), d);
+          step.dirichlet.push_back(d);
+          any = true;
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        const std::string key = "u" + component_name(c);
+        if (!b.has(key)) continue;
+        if (c >= dim) b.child(key).fail("there is no " + key + " in a 2D analysis");
+        DirichletCondition d{set, c, std::nullopt, 0, b.child(key).where()};
+        read_value(b.child(key), d);
+        step.dirichlet.push_back(d);
+        any = true;
+      }
+      if (!any) b.fail("a boundary condition needs u: [...] or ux/uy/uz");
+    }
+  }
+  if (s.has("loads")) {
+    Node ll = s.child("loads");
+    ll.expect_list();
+    const TypeSpec& ls = deck_spec(r, "load");
+    for (size_t i = 0; i < ll.node.size(); ++i) {
+      Node l = ll.at(i);
+      l.check_keys(ls);
+      Load load;
+      load.where = l.where();
+      int kinds = 0;
+      for (auto k : {"force", "traction", "pressure", "body_force"}) kinds += l.has(k);
+      if (kinds != 1) l.fail("a load has exactly one of force, traction, pressure, body_force");
+      if (l.has("body_force")) {
+        if (!l.has("body")) l.fail("body_force needs 'body: <body name>'");
+        load.kind = LoadKind::body_force;
+        load.set = l.child("body").as_string();
+        bool found = false;
+        for (auto& b : m.bodies) found = found || b->name() == load.set;
+        if (!found) l.child("body").fail("no body named '" + load.set + "'");
+        load.vector = l.child("body_force").vector(dim);
+      } else {
+        if (!l.has("set")) l.fail("this load needs 'set'");
+        load.set = l.child("set").as_string();
+        if (l.has("force")) {
+          load.kind = LoadKind::nodal_force;
+          if (!m.mesh.node_sets.count(load.set))
+            l.child("set").fail("no node set named '" + load.set + "' (sets: " + m.mesh.node_set_names() + ")");
+          load.vector = l.child("force").vector(dim);
+        } else {
+          if (!m.mesh.facet_sets.count(load.set))
+            l.child("set").fail("no facet set (physical group of " + std::to_string(dim - 1) + "D facets) named '" +
+                                load.set + "' (facet sets: " + m.mesh.facet_set_names() + ")");
+          if (l.has("traction")) {
+            load.kind = LoadKind::traction;
+            load.vector = l.child("traction").vector(dim);
+          } else {
+            load.kind = LoadKind::pressure;
+            load.pressure = l.child("pressure").as_number();
+          }
+        }
+      }
+      step.loads.push_back(load);
+    }
+  }
+  m.steps.push_back(std::move(step));
+}
+
+void read_solver(const Node& n, const Registry& r, Model& m) {
+  const TypeSpec& spec = deck_spec(r, "solver");
+  n.check_keys(spec);
+  m.linear_solver = n.text(spec, "linear");
+  auto& ns = m.newton;
+  ns.max_iterations = static_cast<int>(n.number(spec, "max_iterations"));
+  ns.residual_tolerance = n.number(spec, "residual_tolerance");
+  ns.absolute_tolerance = n.number(spec, "absolute_tolerance");
+  ns.energy_tolerance = n.number(spec, "energy_tolerance");
+  ns.line_search = n.has("line_search") ? n.child("line_search").as_bool() : true;
+  ns.cutback_factor = n.number(spec, "cutback_factor");
+  ns.growth_factor = n.number(spec, "growth_factor");
+  ns.easy_iterations = static_cast<int>(n.number(spec, "easy_iterations"));
+}
+
+void read_checks(const Node& n, const Registry& r, Model& m) {
+  n.expect_list();
+  const TypeSpec& spec = deck_spec(r, "check");
+  for (size_t i = 0; i < n.node.size(); ++i) {
+    Node c = n.at(i);
+    c.check_keys(spec);
+    Check ch;
+    ch.where = c.where();
+    ch.name = c.text(spec, "name");
+    ch.kind = c.text(spec, "quantity");
+    const std::string comp = c.text(spec, "component");
+    ch.component = comp == "x" ? 0 : comp == "y" ? 1 : 2;
+    if (ch.component >= m.settings.spatial_dim()) c.child("component").fail("no such component in 2D");
+    ch.expected = c.number(spec, "expected");
+    ch.tolerance = c.number(spec, "tolerance");
+    ch.reference = c.text(spec, "reference");
+    if (ch.kind == "displacement") {
+      if (!c.has("at")) c.fail("a displacement check needs 'at: [x, y(, z)]'");
+      ch.point = c.child("at").vector(m.settings.spatial_dim());
+    } else {
+      if (!c.has("set")) c.fail("a reaction check needs 'set'");
+      ch.set = c.child("set").as_string();
+      if (!m.mesh.node_sets.count(ch.set))
+        c.child("set").fail("no node set named '" + ch.set + "' (sets: " + m.mesh.node_set_names() + ")");
+    }
+    m.checks.push_back(ch);
+  }
+}
+
+}  // namespace
+
+Model read_deck(const std::string& path, const Registry& registry, DeckReport* report) {
+  if (!fs::exists(path)) throw InputError(path, "", "deck file does not exist");
+  if (fs::is_directory(path)) throw InputError(path, "", "is a directory, not a deck file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1), "", "malformed YAML: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "", std::string("cannot read the deck: ") + e.what());
+  }
+  Node top{root, path, ""};
+  if (!root.IsMap()) throw InputError(path, "", "a deck is a mapping of sections (title, analysis, mesh, ...)");
+  top.check_keys(deck_spec(registry, "deck"));
+  Model m;
+  m.deck_path = path;
+  m.title = top.has("title") ? top.child("title").as_string() : fs::path(path).stem().string();
+  DeckReport rep;
+  read_analysis(top.child("analysis"), registry, m);
+  read_mesh(top.child("mesh"), registry, m, rep);
+  read_materials_and_bodies(top.child("materials"), top.child("bodies"), registry, m);
+  Node steps = top.child("steps");
+  steps.expect_list();
+  if (steps.node.size() == 0) steps.fail("at least one step is needed");
+  for (size_t i = 0; i < steps.node.size(); ++i) read_step(steps.at(i), i, registry, m);
+  if (top.has("solver")) read_solver(top.child("solver"), registry, m);
+  if (top.has("output")) {
+    const TypeSpec& os = deck_spec(registry, "output");
+    Node o = top.child("output");
+    o.check_keys(os);
+    m.output.directory = o.text(os, "directory");
+    m.output.vtu = o.text(os, "vtu");
+  }
+  if (top.has("checks")) read_checks(top.child("checks"), registry, m);
+  if (report) *report = rep;
+  return m;
+}
+
+}  // namespace signorini

@@ -1,0 +1,244 @@
+#include "signorini/io/registry.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "signorini/core/error.hpp"
+#include "signorini/solver/linear_solver.hpp"
+
+namespace signorini {
+
+std::string ParamSpec::range_text() const {
+  if (!choices.empty()) {
+    std::string s = "one of ";
+    for (size_t i = 0; i < choices.size(); ++i) s += (i ? ", " : "") + choices[i];
+    return s;
+  }
+  if (kind != ParamKind::number && kind != ParamKind::integer) return "";
+  const bool lo = std::isfinite(min), hi = std::isfinite(max);
+  if (!lo && !hi) return "";
+  std::string s;
+  if (lo) s += fmt::format("{}{}", min_open ? "> " : ">= ", min);
+  if (lo && hi) s += " and ";
+  if (hi) s += fmt::format("{}{}", max_open ? "< " : "<= ", max);
+  return s;
+}
+
+std::string ParamSpec::check_number(Real v) const {
+  if (!std::isfinite(v)) return "a finite number";
+  if (kind == ParamKind::integer && v != std::round(v)) return "an integer";
+  if ((v < min || (min_open && v == min)) || (v > max || (max_open && v == max))) return "a value " + range_text();
+  return "";
+}
+
+const ParamSpec* TypeSpec::param(const std::string& n) const {
+  for (auto& p : params)
+    if (p.name == n) return &p;
+  return nullptr;
+}
+
+void Registry::add(TypeSpec spec) { specs_.push_back(std::move(spec)); }
+
+void Registry::add_material(TypeSpec spec, MaterialFactory factory) {
+  materials_[spec.name] = std::move(factory);
+  specs_.push_back(std::move(spec));
+}
+
+const TypeSpec* Registry::find(const std::string& category, const std::string& name) const {
+  for (auto& s : specs_)
+    if (s.category == category && s.name == name) return &s;
+  return nullptr;
+}
+
+const TypeSpec* Registry::find_any(const std::string& name) const {
+  for (auto& s : specs_)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+std::vector<const TypeSpec*> Registry::all() const {
+  std::vector<const TypeSpec*> v;
+  for (auto& s : specs_) v.push_back(&s);
+  return v;
+}
+
+std::vector<std::string> Registry::names(const std::string& category) const {
+  std::vector<std::string> v;
+  for (auto& s : specs_)
+    if (s.category == category) v.push_back(s.name);
+  return v;
+}
+
+std::shared_ptr<Material> Registry::make_material(const std::string& name, const ParamValues& p) const {
+  auto it = materials_.find(name);
+  if (it == materials_.end()) throw Error("unknown material model '" + name + "'");
+  return it->second(p);
+}
+
+std::string Registry::describe(const TypeSpec& spec) const {
+  std::string s = fmt::format("{} ({})\n  {}\n", spec.name, spec.category, spec.doc);
+  if (spec.params.empty()) return s + "  (no parameters)\n";
+  s += "  parameters:\n";
+  for (auto& p : spec.params) {
+    std::string extra;
+    if (p.default_text) extra += "default " + *p.default_text;
+    else if (p.optional) extra += "optional";
+    else extra += "required";
+    const std::string range = p.range_text();
+    if (!range.empty()) extra += "; " + range;
+    s += fmt::format("    {:<22} {} [{}]\n", p.name, p.doc, extra);
+  }
+  return s;
+}
+
+namespace {
+ParamSpec number(std::string name, std::string doc, std::optional<std::string> def = std::nullopt,
+                 Real min = -INFINITY, Real max = INFINITY, bool min_open = false, bool max_open = false) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.doc = std::move(doc);
+  p.default_text = std::move(def);
+  p.min = min;
+  p.max = max;
+  p.min_open = min_open;
+  p.max_open = max_open;
+  return p;
+}
+ParamSpec choice(std::string name, std::string doc, std::vector<std::string> choices, std::optional<std::string> def) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.kind = ParamKind::string;
+  p.doc = std::move(doc);
+  p.choices = std::move(choices);
+  p.default_text = std::move(def);
+  return p;
+}
+ParamSpec text(std::string name, std::string doc, std::optional<std::string> def, ParamKind kind = ParamKind::string) {
+  ParamSpec p;
+  p.name = std::move(name);
+  p.kind = kind;
+  p.doc = std::move(doc);
+  p.default_text = std::move(def);
+  return p;
+}
+ParamSpec opt(ParamSpec p) {
+  p.optional = true;
+  return p;
+}
+}  // namespace
+
+void register_materials(Registry& r) {
+  const std::string model_doc = "material model name";
+  r.add_material({"material", "linear_elastic",
+                  "Isotropic linear elasticity (small strain); Saint Venant-Kirchhoff S = C:E in finite strain.",
+                  {choice("model", model_doc, {"linear_elastic"}, std::nullopt),
+                   number("E", "Young's modulus", std::nullopt, 0, INFINITY, true),
+                   number("nu", "Poisson's ratio", std::nullopt, -1, 0.5, true, true)}},
+                 [](const ParamValues& p) { return std::make_shared<LinearElastic>(p.at("E"), p.at("nu")); });
+  r.add_material({"material", "neo_hookean",
+                  "Compressible Neo-Hookean, S = mu (I - C^-1) + lambda ln J C^-1 (Bonet & Wood 2008, eq. 6.28); "
+                  "linear elastic in small strain.",
+                  {choice("model", model_doc, {"neo_hookean"}, std::nullopt),
+                   number("E", "Young's modulus (small-strain limit)", std::nullopt, 0, INFINITY, true),
+                   number("nu", "Poisson's ratio (small-strain limit)", std::nullopt, -1, 0.5, true, true)}},
+                 [](const ParamValues& p) { return std::make_shared<NeoHookean>(p.at("E"), p.at("nu")); });
+}
+
+void register_linear_solvers(Registry& r) {
+  r.add({"linear_solver", "auto", "CHOLMOD for symmetric systems, UMFPACK otherwise; UMFPACK when Cholesky fails.", {}});
+  r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite).", {}});
+  r.add({"linear_solver", "umfpack", "SuiteSparse UMFPACK multifrontal LU (any nonsingular matrix).", {}});
+  r.add({"linear_solver", "eigen_ldlt", "Eigen simplicial LDLT (symmetric; always available, slower).", {}});
+  r.add({"linear_solver", "eigen_lu", "Eigen SparseLU (general; always available, slower).", {}});
+}
+
+void register_deck_sections(Registry& r) {
+  std::vector<std::string> solvers = linear_solver_names();
+  r.add({"deck", "deck", "Top level of a deck.",
+         {text("title", "a title for the run", "\"\""),
+          text("analysis", "analysis type and kinematics (see 'describe analysis')", std::nullopt, ParamKind::any),
+          text("mesh", "the mesh (see 'describe mesh')", std::nullopt, ParamKind::any),
+          text("materials", "named materials: name -> {model, parameters}", std::nullopt, ParamKind::any),
+          text("bodies", "list of {name, region, material}", std::nullopt, ParamKind::any),
+          text("steps", "list of load steps (see 'describe step')", std::nullopt, ParamKind::any),
+          opt(text("solver", "Newton and linear solver settings (see 'describe solver')", std::nullopt, ParamKind::any)),
+          opt(text("output", "output settings (see 'describe output')", std::nullopt, ParamKind::any)),
+          opt(text("checks", "reference values to compare with after the run (see 'describe check')", std::nullopt,
+                   ParamKind::any))}});
+  r.add({"deck", "analysis", "Analysis type.",
+         {choice("dimension", "type of analysis", {"plane_strain", "plane_stress", "axisymmetric", "3d"}, std::nullopt),
+          choice("kinematics", "small strain, or finite strain (total Lagrangian)", {"small_strain", "finite_strain"},
+                 "small_strain"),
+          number("thickness", "out-of-plane thickness (plane strain and plane stress)", "1", 0, INFINITY, true)}});
+  r.add({"deck", "mesh", "The mesh: a Gmsh .msh (2.2 or 4.1) or a .geo meshed at run time.",
+         {text("file", "path, relative to the deck", std::nullopt),
+          opt(text("parameters", ".geo constants declared with DefineConstant[...]: name -> number", std::nullopt,
+                   ParamKind::any)),
+          number("order", "element order to raise the mesh to after meshing (0: keep)", "0", 0, 2)}});
+  r.add({"deck", "body", "A deformable body: the cells of one region with one material.",
+         {text("name", "name used in messages and output", std::nullopt),
+          text("region", "physical group of cells", std::nullopt),
+          text("material", "name of a material of the 'materials' section", std::nullopt)}});
+  r.add({"deck", "step", "A load step. Prescribed values and loads ramp linearly over the step.",
+         {text("name", "step name", "step<N>"),
+          opt(text("increments", "{initial, min, max, max_count}: fractions of the step", std::nullopt, ParamKind::any)),
+          opt(text("boundary", "list of Dirichlet conditions (see 'describe boundary')", std::nullopt, ParamKind::any)),
+          opt(text("loads", "list of loads (see 'describe load')", std::nullopt, ParamKind::any))}});
+  r.add({"deck", "increments", "Increment control of a step (fractions of the step).",
+         {number("initial", "first increment", "1", 0, 1, true, false),
+          number("min", "smallest increment before giving up", "1e-5", 0, 1, true, false),
+          number("max", "largest increment", "1", 0, 1, true, false),
+          number("max_count", "largest number of increments in the step", "10000", 1, 1e9)}});
+  r.add({"deck", "boundary", "Prescribed displacement on a node set: {set, u: [..]} or {set, ux|uy|uz: value}. A "
+                             "value is a number (reached at the end of the step, ramped from the value at its start) or "
+                             "{ramp: [start, end]}.",
+         {text("set", "node set (physical group)", std::nullopt), opt(text("u", "all components", std::nullopt, ParamKind::vector)),
+          opt(text("ux", "x (or r) component", std::nullopt, ParamKind::any)),
+          opt(text("uy", "y (or z) component", std::nullopt, ParamKind::any)),
+          opt(text("uz", "z component (3D)", std::nullopt, ParamKind::any))}});
+  r.add({"deck", "load", "A load, ramped from its value at the end of the previous step: exactly one of force "
+                         "(total force on a node set, shared equally by its nodes), traction (per unit reference area "
+                         "of a facet set), pressure (on a facet set, positive in compression, follower in finite "
+                         "strain) or body_force (per unit reference volume of a body).",
+         {opt(text("set", "node set or facet set", std::nullopt)), opt(text("body", "body name (body_force)", std::nullopt)),
+          opt(text("force", "total force vector", std::nullopt, ParamKind::vector)),
+          opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
+          opt(number("pressure", "pressure", std::nullopt)),
+          opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector))}});
+  r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
+         {choice("linear", "linear solver (see 'describe cholmod' etc.)", solvers, "auto"),
+          number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
+          number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),
+          number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),
+          number("energy_tolerance", "|du.R| relative to the first iteration's", "1e-16", 0, 1),
+          text("line_search", "backtracking line search on the residual norm", "true", ParamKind::boolean),
+          number("cutback_factor", "increment factor after a failed increment", "0.5", 0, 1, true, true),
+          number("growth_factor", "increment factor after an easy increment", "1.5", 1, 10),
+          number("easy_iterations", "an increment that converges in at most this many iterations is easy", "5", 0,
+                 1000)}});
+  r.add({"deck", "output", "Output settings.",
+         {text("directory", "output directory (the command line's -o wins)", "results"),
+          choice("vtu", "when to write ParaView files", {"every_increment", "last", "none"}, "every_increment")}});
+  r.add({"deck", "check", "A reference value compared with the result after the run; a failed check makes the run "
+                          "exit with code 3.",
+         {text("name", "what is checked", std::nullopt),
+          choice("quantity", "nodal displacement (node nearest 'at') or reaction sum on a node set",
+                 {"displacement", "reaction"}, std::nullopt),
+          opt(text("at", "point (displacement)", std::nullopt, ParamKind::vector)),
+          opt(text("set", "node set (reaction)", std::nullopt)),
+          choice("component", "component", {"x", "y", "z"}, std::nullopt),
+          number("expected", "reference value", std::nullopt),
+          number("tolerance", "relative tolerance", "0.01", 0, INFINITY, true),
+          text("reference", "where the expected value comes from", "\"\"")}});
+}
+
+Registry default_registry() {
+  Registry r;
+  register_materials(r);
+  register_linear_solvers(r);
+  register_deck_sections(r);
+  return r;
+}
+
+}  // namespace signorini

@@ -1,0 +1,43 @@
+// Writes what a run produces, after every converged increment, atomically: VTU files with a
+// PVD collection, a CSV of reaction forces per set and increment, and a JSON summary whose
+// status says whether the run is still going, finished, or failed (and why).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "signorini/solver/analysis.hpp"
+
+namespace signorini {
+
+struct CheckResult {
+  Check check;
+  Real computed = 0;
+  Real error = 0;  // relative (absolute if the expected value is 0)
+  bool pass = false;
+};
+
+std::vector<CheckResult> evaluate_checks(const Analysis& analysis);
+
+class ResultsWriter {
+ public:
+  ResultsWriter(const Model& model, std::string directory);
+  void write_increment(const Analysis& a, const IncrementRecord& rec);
+  // Final JSON (and the last VTU when vtu: last). `failure` empty when the run completed.
+  void finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks);
+  const std::string& directory() const { return dir_; }
+  std::string pvd_path() const { return dir_ + "/results.pvd"; }
+  int vtu_count() const { return static_cast<int>(pvd_.size()); }
+
+ private:
+  void write_vtu(const Analysis& a, Real time, int step, int inc);
+  void write_json(const Analysis& a, const AnalysisSummary& s, const std::string& status,
+                  const std::vector<CheckResult>& checks);
+  const Model& model_;
+  std::string dir_;
+  std::vector<std::pair<Real, std::string>> pvd_;
+  std::string csv_;
+  IncrementRecord last_record_;
+  bool have_last_ = false;
+};
+
+}  // namespace signorini

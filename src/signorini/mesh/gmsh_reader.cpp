@@ -1,0 +1,178 @@
+#include "signorini/mesh/gmsh_reader.hpp"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <regex>
+#include <sstream>
+#include <unordered_map>
+
+#include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
+
+namespace signorini {
+
+namespace {
+
+std::mutex g_gmsh_mutex;  // the Gmsh library holds one global model
+
+// The names declared inside DefineConstant[...] blocks of a .geo file.
+std::vector<std::string> declared_constants(const std::string& text) {
+  std::vector<std::string> names;
+  size_t pos = 0;
+  while ((pos = text.find("DefineConstant", pos)) != std::string::npos) {
+    size_t open = text.find('[', pos), close = text.find("];", pos);
+    if (open == std::string::npos || close == std::string::npos) break;
+    std::string body = text.substr(open + 1, close - open - 1);
+    // Entries are "name = value" or "name = {value, options}" separated by commas at depth 0.
+    std::regex entry(R"((?:^|[,\s\[])([A-Za-z_][A-Za-z0-9_]*)\s*=)");
+    int depth = 0;
+    std::string flat;
+    for (char c : body) {
+      if (c == '{') ++depth;
+      if (c == '}') --depth;
+      flat += depth > 0 && c != '{' ? ' ' : c;
+    }
+    for (std::sregex_iterator it(flat.begin(), flat.end(), entry), end; it != end; ++it)
+      names.push_back((*it)[1]);
+    pos = close;
+  }
+  return names;
+}
+
+struct GmshSession {
+  explicit GmshSession(const std::vector<std::string>& args) {
+    std::vector<std::string> a{"signorini"};
+    a.insert(a.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& s : a) argv.push_back(s.data());
+    gmsh::initialize(static_cast<int>(argv.size()), argv.data(), false);
+    gmsh::option::setNumber("General.Terminal", log::level() <= log::Level::debug ? 1 : 0);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+};
+
+std::string last_gmsh_error() {
+  std::string e;
+  try {
+    gmsh::logger::getLastError(e);
+  } catch (...) {
+  }
+  return e;
+}
+
+}  // namespace
+
+Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
+  namespace fs = std::filesystem;
+  const std::string where = options.where.empty() ? path : options.where;
+  if (!fs::exists(path)) throw InputError(where, "mesh.file", "mesh file '" + path + "' does not exist");
+  const std::string ext = fs::path(path).extension().string();
+  if (ext != ".msh" && ext != ".geo")
+    throw InputError(where, "mesh.file", "mesh file '" + path + "' must end in .msh or .geo");
+  std::vector<std::string> args;
+  if (!options.parameters.empty()) {
+    if (ext != ".geo")
+      throw InputError(where, "mesh.parameters", "parameters apply to .geo files only, not '" + path + "'");
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    auto declared = declared_constants(ss.str());
+    for (auto& [name, value] : options.parameters) {
+      if (std::find(declared.begin(), declared.end(), name) == declared.end())
+        throw InputError(where, "mesh.parameters." + name,
+                         "'" + path + "' does not declare '" + name +
+                             "' with DefineConstant[...], so it cannot be set from the deck");
+      std::ostringstream v;
+      v.precision(17);
+      v << value;
+      args.insert(args.end(), {"-setnumber", name, v.str()});
+    }
+  }
+
+  std::lock_guard<std::mutex> lock(g_gmsh_mutex);
+  GmshSession session(args);
+  Mesh mesh;
+  try {
+    gmsh::open(path);
+    if (ext == ".geo") {
+      gmsh::model::mesh::generate(gmsh::model::getDimension());
+    }
+    if (options.order > 0) gmsh::model::mesh::setOrder(options.order);
+    std::vector<std::size_t> tags;
+    std::vector<double> coords, param;
+    gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);
+    std::unordered_map<std::size_t, Index> index;
+    index.reserve(tags.size());
+    mesh.nodes.resize(tags.size());
+    mesh.node_ids.resize(tags.size());
+    for (size_t i = 0; i < tags.size(); ++i) {
+      index[tags[i]] = static_cast<Index>(i);
+      mesh.nodes[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+      mesh.node_ids[i] = static_cast<Index>(tags[i]);
+    }
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, -1);
+    if (groups.empty())
+      throw InputError(where, "mesh.file",
+                       "mesh '" + path + "' has no physical groups: name its regions and "
+                       "boundaries with Physical Surface/Volume/Curve in the .geo");
+    int dim = 0;
+    for (auto& [d, t] : groups) dim = std::max(dim, d);
+    if (dim < 2)
+      throw InputError(where, "mesh.file", "mesh '" + path + "' has no 2D or 3D physical group");
+    mesh.dim = dim;
+    for (auto& [d, t] : groups) {
+      std::string name;
+      gmsh::model::getPhysicalName(d, t, name);
+      if (name.empty()) name = std::to_string(t);
+      std::vector<int> entities;
+      gmsh::model::getEntitiesForPhysicalGroup(d, t, entities);
+      std::map<ElementType, ElementBlock> blocks;
+      for (int ent : entities) {
+        std::vector<int> types;
+        std::vector<std::vector<std::size_t>> etags, enodes;
+        gmsh::model::mesh::getElements(types, etags, enodes, d, ent);
+        for (size_t k = 0; k < types.size(); ++k) {
+          ElementType et = element_type_from_gmsh(types[k]);
+          auto& b = blocks.try_emplace(et, ElementBlock{et, {}, {}}).first->second;
+          const int nn = element_info(et).num_nodes;
+          for (size_t e = 0; e < etags[k].size(); ++e) {
+            for (int a = 0; a < nn; ++a) b.conn.push_back(index.at(enodes[k][e * nn + a]));
+            b.ids.push_back(static_cast<Index>(etags[k][e]));
+          }
+        }
+      }
+      if (d == dim || d == dim - 1) {
+        auto& target = d == dim ? mesh.regions[name] : mesh.facet_sets[name];
+        for (auto& [et, b] : blocks) target.push_back(std::move(b));
+      }
+      std::vector<std::size_t> ntags;
+      std::vector<double> ncoords;
+      gmsh::model::mesh::getNodesForPhysicalGroup(d, t, ntags, ncoords);
+      auto& ns = mesh.node_sets[name];
+      for (auto nt : ntags) ns.push_back(index.at(nt));
+      std::sort(ns.begin(), ns.end());
+      ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    std::string g = last_gmsh_error();
+    throw InputError(where, "mesh.file", "Gmsh could not read '" + path + "': " + (g.empty() ? e.what() : g));
+  } catch (...) {
+    std::string g = last_gmsh_error();
+    throw InputError(where, "mesh.file", "Gmsh could not read '" + path + "'" + (g.empty() ? "" : ": " + g));
+  }
+  if (mesh.regions.empty())
+    throw InputError(where, "mesh.file", "mesh '" + path + "' has no cells in a physical group of dimension " +
+                                              std::to_string(mesh.dim));
+  // Drop nodes that no cell uses? They stay (a physical point may name one); they get no
+  // degrees of freedom unless a cell uses them.
+  return mesh;
+}
+
+}  // namespace signorini

@@ -1,0 +1,19 @@
+// Reads a Gmsh mesh (.msh 2.2 or 4.1) or meshes a .geo file at run time through the Gmsh
+// API. Physical groups become named regions (cells), facet sets and node sets.
+#pragma once
+#include <map>
+#include <string>
+
+#include "signorini/mesh/mesh.hpp"
+
+namespace signorini {
+
+struct GmshOptions {
+  std::map<std::string, Real> parameters;  // .geo constants, declared with DefineConstant
+  int order = 0;                           // element order to set after meshing (0: as is)
+  std::string where;                       // deck location for error messages
+};
+
+Mesh read_gmsh(const std::string& path, const GmshOptions& options = {});
+
+}  // namespace signorini

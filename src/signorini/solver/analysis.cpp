@@ -1,0 +1,280 @@
+#include "signorini/solver/analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
+
+namespace signorini {
+
+namespace {
+std::vector<const ElementBlock*> all_cells(const Model& m) {
+  std::vector<const ElementBlock*> v;
+  for (auto& b : m.bodies)
+    for (auto& blk : b->blocks()) v.push_back(&blk);
+  return v;
+}
+}  // namespace
+
+Analysis::Analysis(Model& model)
+    : model_(model),
+      dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model)),
+      linear_solver_(model.linear_solver) {
+  system_.build_pattern(dofs_, all_cells(model));
+  u_ = VecX::Zero(dofs_.num_dofs());
+  u_converged_ = u_;
+  reactions_ = u_;
+  constrained_.assign(dofs_.num_dofs(), 0);
+  // Follower pressure makes the tangent unsymmetric.
+  for (auto& s : model.steps)
+    for (auto& l : s.loads)
+      if (l.kind == LoadKind::pressure && model.settings.finite_strain) symmetric_ = false;
+}
+
+void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent) {
+  if (scale == 0) return;
+  const auto& X = model_.mesh.nodes;
+  const int dim = dofs_.dofs_per_node();
+  for (const Load& l : loads) {
+    switch (l.kind) {
+      case LoadKind::nodal_force: {
+        const auto& ns = model_.mesh.node_sets.at(l.set);
+        Index n = 0;
+        for (Index node : ns) n += dofs_.has_dofs(node);
+        for (Index node : ns)
+          if (dofs_.has_dofs(node))
+            for (int i = 0; i < dim; ++i) fext(dofs_.dof(node, i)) += scale * l.vector(i) / n;
+        break;
+      }
+      case LoadKind::traction:
+      case LoadKind::pressure: {
+        FacetLoad fl;
+        fl.facets = &model_.mesh.facet_sets.at(l.set);
+        fl.is_pressure = l.kind == LoadKind::pressure;
+        fl.traction = l.vector;
+        fl.pressure = l.pressure;
+        fl.follower = model_.settings.finite_strain;
+        add_facet_load(fl, model_.settings, X, u_, dofs_, scale, fext, tangent ? &system_ : nullptr);
+        break;
+      }
+      case LoadKind::body_force:
+        for (auto& b : model_.bodies)
+          if (b->name() == l.set) b->add_body_force(X, dofs_, l.vector, scale, fext);
+        break;
+    }
+  }
+}
+
+Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
+  log::Timer t;
+  VecX fint = VecX::Zero(dofs_.num_dofs()), fext = VecX::Zero(dofs_.num_dofs());
+  if (tangent) system_.zero();
+  for (auto& b : model_.bodies) b->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &system_ : nullptr);
+  add_loads(previous_loads_, 1 - lambda, fext, tangent);
+  add_loads(*current_loads_, lambda, fext, tangent);
+  residual = fext - fint;
+  for (Index i = 0; i < residual.size(); ++i)
+    if (constrained_[i]) {
+      reactions_(i) = -residual(i);
+      residual(i) = 0;
+    } else {
+      reactions_(i) = 0;
+    }
+  if (tangent) system_.apply_dirichlet(constrained_, system_.mean_abs_diagonal());
+  summary_.assembly_seconds += t.seconds();
+  return std::max(fint.norm(), fext.norm());
+}
+
+void Analysis::begin_step(int s) {
+  step_ = s;
+  const Step& step = model_.steps[s];
+  std::fill(constrained_.begin(), constrained_.end(), 0);
+  prescribed_.clear();
+  std::vector<Index> where(dofs_.num_dofs(), -1);
+  for (const auto& d : step.dirichlet) {
+    for (Index node : model_.mesh.node_sets.at(d.set)) {
+      const Index dof = dofs_.dof(node, d.component);
+      if (dof < 0) continue;
+      Prescribed p{dof, d.start ? *d.start : u_(dof), d.end};
+      if (where[dof] >= 0) prescribed_[where[dof]] = p;  // a later condition wins
+      else {
+        where[dof] = static_cast<Index>(prescribed_.size());
+        prescribed_.push_back(p);
+      }
+      constrained_[dof] = 1;
+    }
+  }
+  current_loads_ = &step.loads;
+}
+
+bool Analysis::solve_increment(Real lambda, IncrementRecord& rec, std::string& why) {
+  const NewtonSettings& ns = model_.newton;
+  u_ = u_converged_;
+  for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
+  for (auto& b : model_.bodies) b->revert();
+  VecX R, du, Rtrial;
+  rec.residuals.clear();
+  rec.energies.clear();
+  try {
+    Real scale = evaluate(lambda, true, R);
+    Real rnorm = R.norm();
+    auto converged_residual = [&](Real r, Real sc) {
+      return r <= std::max(ns.residual_tolerance * sc, ns.absolute_tolerance) || sc < 1e-300;
+    };
+    rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
+    log::info("    iter {:2d}  |R|/F = {:.3e}", 0, rec.residuals.back());
+    if (converged_residual(rnorm, scale)) {
+      rec.iterations = 0;
+      return true;
+    }
+    Real energy0 = 0;
+    for (int it = 1; it <= ns.max_iterations; ++it) {
+      log::Timer ts;
+      linear_solver_.solve(system_.matrix(), symmetric_, R, du);
+      summary_.solve_seconds += ts.seconds();
+      rec.linear_solver = linear_solver_.last_used();
+      const Real energy = std::abs(du.dot(R));
+      if (it == 1) energy0 = energy;
+      // Backtracking line search on the residual norm.
+      const VecX u0 = u_;
+      Real alpha = 1;
+      Real new_scale = 0, new_norm = 0;
+      for (int ls = 0;; ++ls) {
+        u_ = u0 + alpha * du;
+        bool ok = true;
+        try {
+          new_scale = evaluate(lambda, true, Rtrial);
+          new_norm = Rtrial.norm();
+          ok = std::isfinite(new_norm);
+        } catch (const SolverError&) {
+          ok = false;  // e.g. an element turned inside out: shorten the step
+        }
+        if (ok && (!ns.line_search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
+        if (!ns.line_search || ls >= 6) {
+          if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
+          break;
+        }
+        alpha *= 0.5;
+      }
+      R.swap(Rtrial);
+      rnorm = new_norm;
+      scale = std::max(scale, new_scale);
+      const Real rel = scale > 0 ? rnorm / scale : rnorm;
+      rec.residuals.push_back(rel);
+      rec.energies.push_back(energy);
+      rec.iterations = it;
+      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}", it, rel, energy,
+                alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string());
+      if (!std::isfinite(rnorm)) {
+        why = "residual is not finite";
+        return false;
+      }
+      const bool energy_ok = it > 1 && energy <= ns.energy_tolerance * energy0;
+      if (converged_residual(rnorm, scale) ||
+          (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance)))
+        return true;
+      if (it > 3 && rel > 1e8 * rec.residuals.front()) {
+        why = "residual diverges";
+        return false;
+      }
+    }
+    why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", ns.max_iterations,
+                      rec.residuals.back());
+    return false;
+  } catch (const SolverError& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+AnalysisSummary Analysis::run() {
+  log::Timer total;
+  summary_ = {};
+  previous_loads_.clear();
+  static const std::vector<Load> none;
+  current_loads_ = &none;
+  for (int s = 0; s < static_cast<int>(model_.steps.size()); ++s) {
+    const Step& step = model_.steps[s];
+    begin_step(s);
+    log::info("step {} '{}': {} Dirichlet conditions, {} loads", s + 1, step.name, step.dirichlet.size(),
+              step.loads.size());
+    Real lambda = 0, dl = std::min(step.initial_increment, step.max_increment);
+    int inc = 0, cutbacks = 0;
+    while (lambda < 1 - 1e-12) {
+      if (inc >= step.max_increments) {
+        summary_.failure = fmt::format("step '{}': more than {} increments", step.name, step.max_increments);
+        summary_.total_seconds = total.seconds();
+        return summary_;
+      }
+      dl = std::min(dl, 1 - lambda);
+      IncrementRecord rec;
+      rec.step = s;
+      rec.increment = inc + 1;
+      log::Timer t;
+      std::string why;
+      const bool ok = solve_increment(lambda + dl, rec, why);
+      if (!ok) {
+        ++cutbacks;
+        const Real next = dl * model_.newton.cutback_factor;
+        log::warning("step '{}' increment {} (fraction {:.4g} -> {:.4g}) failed: {}; cutting back to {:.3g}",
+                     step.name, inc + 1, lambda, lambda + dl, why, next);
+        if (next < step.min_increment * (1 - 1e-12)) {
+          u_ = u_converged_;
+          for (auto& b : model_.bodies) b->revert();
+          summary_.failure =
+              fmt::format("step '{}' at fraction {:.6g}: {}; the increment would fall below the minimum {:.3g} "
+                          "after {} cutbacks. The last converged state is kept.",
+                          step.name, lambda, why, step.min_increment, cutbacks);
+          summary_.total_seconds = total.seconds();
+          return summary_;
+        }
+        dl = next;
+        continue;
+      }
+      lambda += dl;
+      if (1 - lambda < 1e-12) lambda = 1;
+      ++inc;
+      u_converged_ = u_;
+      for (auto& b : model_.bodies) b->commit();
+      rec.fraction = lambda;
+      rec.time = s + lambda;
+      rec.cutbacks = cutbacks;
+      rec.seconds = t.seconds();
+      cutbacks = 0;
+      summary_.total_iterations += rec.iterations;
+      summary_.increments.push_back(rec);
+      log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]",
+                s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
+                log::elapsed());
+      if (rec.iterations <= model_.newton.easy_iterations)
+        dl = std::min(dl * model_.newton.growth_factor, step.max_increment);
+      if (observer_) observer_(*this, rec);
+    }
+    previous_loads_ = step.loads;
+  }
+  summary_.completed = true;
+  summary_.total_seconds = total.seconds();
+  return summary_;
+}
+
+Vec3 Analysis::reaction_sum(const std::string& node_set) const {
+  Vec3 r = Vec3::Zero();
+  auto it = model_.mesh.node_sets.find(node_set);
+  if (it == model_.mesh.node_sets.end()) return r;
+  for (Index node : it->second)
+    for (int i = 0; i < dofs_.dofs_per_node(); ++i) {
+      Index d = dofs_.dof(node, i);
+      if (d >= 0) r(i) += reactions_(d);
+    }
+  return r;
+}
+
+std::vector<std::string> Analysis::reaction_sets() const {
+  std::vector<std::string> v;
+  for (auto& d : model_.steps[step_].dirichlet)
+    if (std::find(v.begin(), v.end(), d.set) == v.end()) v.push_back(d.set);
+  return v;
+}
+
+}  // namespace signorini

@@ -1,0 +1,88 @@
+// The nonlinear quasi-static analysis: load steps split into increments (automatic cutback
+// on failure, growth on easy convergence), each solved by Newton-Raphson with a
+// backtracking line search. It owns the iteration state; the Model stays read-only
+// (bodies keep their material history).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "signorini/fem/dof_map.hpp"
+#include "signorini/fem/global_system.hpp"
+#include "signorini/fem/model.hpp"
+#include "signorini/fem/surface_load.hpp"
+#include "signorini/solver/linear_solver.hpp"
+
+namespace signorini {
+
+struct IncrementRecord {
+  int step = 0;              // 0-based
+  int increment = 0;         // 1-based within the step
+  Real fraction = 0;         // load fraction of the step reached
+  Real time = 0;             // pseudo-time: step index + fraction
+  int iterations = 0;
+  int cutbacks = 0;          // failed attempts before this converged increment
+  std::vector<Real> residuals;  // relative residual norm per iteration (first: before solving)
+  std::vector<Real> energies;   // |du . R| per iteration
+  double seconds = 0;
+  std::string linear_solver;
+};
+
+struct AnalysisSummary {
+  bool completed = false;
+  std::string failure;       // why the analysis gave up
+  std::vector<IncrementRecord> increments;
+  int total_iterations = 0;
+  double assembly_seconds = 0, solve_seconds = 0, total_seconds = 0;
+};
+
+class Analysis {
+ public:
+  explicit Analysis(Model& model);
+
+  // Called after every converged increment (to write results) with the record.
+  void on_increment(std::function<void(const Analysis&, const IncrementRecord&)> f) { observer_ = std::move(f); }
+  AnalysisSummary run();
+
+  const Model& model() const { return model_; }
+  const DofMap& dofs() const { return dofs_; }
+  const VecX& displacement() const { return u_; }
+  // Reaction forces (fint - fext) at the DOFs constrained in the current step, 0 elsewhere.
+  const VecX& reactions() const { return reactions_; }
+  const std::vector<char>& constrained() const { return constrained_; }
+  const AnalysisSummary& summary() const { return summary_; }
+  int current_step() const { return step_; }
+  // Sum of reactions over a node set (x, y, z).
+  Vec3 reaction_sum(const std::string& node_set) const;
+  // The node sets that carry a Dirichlet condition in the current step, in deck order.
+  std::vector<std::string> reaction_sets() const;
+
+ private:
+  struct Prescribed {
+    Index dof;
+    Real start, end;
+  };
+  // Residual (fext - fint, zero at constrained DOFs) at u for the step fraction lambda;
+  // assembles the tangent too if asked. Returns the force scale for the relative test.
+  Real evaluate(Real lambda, bool tangent, VecX& residual);
+  void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
+  void begin_step(int s);
+  bool solve_increment(Real lambda, IncrementRecord& rec, std::string& why);
+
+  Model& model_;
+  DofMap dofs_;
+  SparseSystem system_;
+  AutoLinearSolver linear_solver_;
+  bool symmetric_ = true;
+  VecX u_, u_converged_, reactions_;
+  std::vector<char> constrained_;
+  std::vector<Prescribed> prescribed_;
+  std::vector<Load> previous_loads_;
+  const std::vector<Load>* current_loads_ = nullptr;
+  std::vector<FacetLoad> facet_loads_cache_;
+  int step_ = 0;
+  AnalysisSummary summary_;
+  std::function<void(const Analysis&, const IncrementRecord&)> observer_;
+};
+
+}  // namespace signorini

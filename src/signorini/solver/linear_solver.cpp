@@ -1,0 +1,74 @@
+#include "signorini/solver/linear_solver.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
+
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+namespace {
+
+// The pattern does not change between Newton iterations: analyse once, refactorize after.
+template <typename EigenSolver>
+class EigenDirect final : public LinearSolver {
+ public:
+  explicit EigenDirect(std::string name) : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  bool factorize(const SparseMatrix& a) override {
+    if (!analysed_ || a.rows() != rows_ || a.nonZeros() != nnz_) {
+      solver_.analyzePattern(a);
+      analysed_ = true;
+      rows_ = a.rows();
+      nnz_ = a.nonZeros();
+    }
+    solver_.factorize(a);
+    return solver_.info() == Eigen::Success;
+  }
+  bool solve(const VecX& b, VecX& x) override {
+    x = solver_.solve(b);
+    return solver_.info() == Eigen::Success && x.allFinite();
+  }
+
+ private:
+  std::string name_;
+  EigenSolver solver_;
+  bool analysed_ = false;
+  Index rows_ = 0, nnz_ = 0;
+};
+
+}  // namespace
+
+const std::vector<std::string>& linear_solver_names() {
+  static const std::vector<std::string> n{"auto", "cholmod", "umfpack", "eigen_ldlt", "eigen_lu"};
+  return n;
+}
+
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name) {
+  if (name == "cholmod")
+    return std::make_unique<EigenDirect<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>>(name);
+  if (name == "umfpack") return std::make_unique<EigenDirect<Eigen::UmfPackLU<SparseMatrix>>>(name);
+  if (name == "eigen_ldlt")
+    return std::make_unique<EigenDirect<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>>(name);
+  if (name == "eigen_lu")
+    return std::make_unique<EigenDirect<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>>(name);
+  throw Error("unknown linear solver '" + name + "'");
+}
+
+void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
+  std::string want = choice_;
+  if (want == "auto") want = symmetric ? "cholmod" : "umfpack";
+  if (!solver_ || solver_->name() != want) solver_ = make_linear_solver(want);
+  if (solver_->factorize(a) && solver_->solve(b, x)) return;
+  if (choice_ == "auto" && want == "cholmod") {
+    // Not positive definite (instability, or an unsymmetric part): LU instead.
+    solver_ = make_linear_solver("umfpack");
+    if (solver_->factorize(a) && solver_->solve(b, x)) return;
+  }
+  throw SolverError("linear solver " + solver_->name() + " failed: the system is singular (missing supports or a "
+                    "mechanism?) or not positive definite");
+}
+
+}  // namespace signorini

@@ -1,0 +1,39 @@
+// Sparse direct solvers behind one interface: CHOLMOD (symmetric positive definite),
+// UMFPACK (general), and Eigen's own LDLT and LU that always build. `auto` picks CHOLMOD
+// for a symmetric matrix and UMFPACK otherwise, and falls back to UMFPACK when a
+// Cholesky factorization fails.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "signorini/fem/global_system.hpp"
+
+namespace signorini {
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+  // Factorizes; returns false if the factorization failed (not positive definite, singular).
+  virtual bool factorize(const SparseMatrix& a) = 0;
+  virtual bool solve(const VecX& b, VecX& x) = 0;
+};
+
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name);
+const std::vector<std::string>& linear_solver_names();  // for the registry and the deck
+
+// Chooses per factorization: holds the selected solver and falls back as documented.
+class AutoLinearSolver {
+ public:
+  explicit AutoLinearSolver(std::string choice) : choice_(std::move(choice)) {}
+  // Factorizes and solves; throws SolverError when no solver succeeds.
+  void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
+  std::string last_used() const { return solver_ ? solver_->name() : "none"; }
+
+ private:
+  std::string choice_;
+  std::unique_ptr<LinearSolver> solver_;
+};
+
+}  // namespace signorini
