@@ -19,7 +19,7 @@ namespace {
 void print_model(const Model& m, const DeckReport& rep) {
   Index nset = m.mesh.node_sets.size(), fset = m.mesh.facet_sets.size();
   fmt::print("Model '{}'\n", m.title);
-  fmt::print("  analysis   {} , {}{}\n", to_string(m.settings.dimension),
+  fmt::print("  analysis   {}, {}{}\n", to_string(m.settings.dimension),
              m.settings.finite_strain ? "finite strain (total Lagrangian)" : "small strain",
              (m.settings.dimension == Dimension::plane_strain || m.settings.dimension == Dimension::plane_stress)
                  ? fmt::format(", thickness {}", m.settings.thickness)

@@ -20,8 +20,11 @@ Level level() { return g_level; }
 void write(Level l, const std::string& text) {
   std::lock_guard<std::mutex> lock(g_mutex);
   const char* prefix = l == Level::warning ? "warning: " : (l == Level::error ? "error: " : "");
-  std::fprintf(stderr, "%s%s\n", prefix, text.c_str());
-  std::fflush(stderr);
+  // Progress goes to stdout with the rest of the report; warnings and errors to stderr.
+  std::FILE* out = l >= Level::warning ? stderr : stdout;
+  std::fflush(stdout);
+  std::fprintf(out, "%s%s\n", prefix, text.c_str());
+  std::fflush(out);
 }
 
 double elapsed() {

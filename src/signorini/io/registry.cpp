@@ -213,6 +213,8 @@ void register_deck_sections(Registry& r) {
           number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),
           number("energy_tolerance", "|du.R| relative to the first iteration's", "1e-16", 0, 1),
           text("line_search", "backtracking line search on the residual norm", "true", ParamKind::boolean),
+          text("predictor", "start each increment from the last one's displacement, extrapolated", "true",
+               ParamKind::boolean),
           number("cutback_factor", "increment factor after a failed increment", "0.5", 0, 1, true, true),
           number("growth_factor", "increment factor after an easy increment", "1.5", 1, 10),
           number("easy_iterations", "an increment that converges in at most this many iterations is easy", "5", 0,

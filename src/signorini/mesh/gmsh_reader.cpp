@@ -1,6 +1,7 @@
 #include "signorini/mesh/gmsh_reader.hpp"
 
 #include <gmsh.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -44,6 +45,8 @@ std::vector<std::string> declared_constants(const std::string& text) {
 }
 
 struct GmshSession {
+  // Gmsh sets OpenMP's thread count to its own option on initialize: restore ours after.
+  int threads_ = omp_get_max_threads();
   explicit GmshSession(const std::vector<std::string>& args) {
     std::vector<std::string> a{"signorini"};
     a.insert(a.end(), args.begin(), args.end());
@@ -52,7 +55,10 @@ struct GmshSession {
     gmsh::initialize(static_cast<int>(argv.size()), argv.data(), false);
     gmsh::option::setNumber("General.Terminal", log::level() <= log::Level::debug ? 1 : 0);
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshSession() {
+    gmsh::finalize();
+    omp_set_num_threads(threads_);
+  }
 };
 
 std::string last_gmsh_error() {

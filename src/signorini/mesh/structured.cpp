@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "signorini/core/error.hpp"
+#include "signorini/fem/shape.hpp"
 
 namespace signorini {
 
@@ -89,7 +90,9 @@ Mesh structured(ElementType type, int dim, std::array<int, 3> n, Vec3 len,
         if (index_of[g] < 0) continue;
         Vec3 x(len(0) * i / (np[0] - 1), len(1) * j / (np[1] - 1),
                dim == 3 ? len(2) * k / (np[2] - 1) : 0.0);
-        const bool interior = i > 0 && i < np[0] - 1 && j > 0 && j < np[1] - 1 &&
+        // Only lattice vertices move; higher-order nodes are placed from the corners below.
+        const bool vertex = i % p == 0 && j % p == 0 && k % p == 0;
+        const bool interior = vertex && i > 0 && i < np[0] - 1 && j > 0 && j < np[1] - 1 &&
                               (dim == 2 || (k > 0 && k < np[2] - 1));
         if (interior && opt.distortion > 0)
           for (int d = 0; d < dim; ++d) x(d) += opt.distortion * rnd() * len(d) / (np[d] - 1);
@@ -98,6 +101,24 @@ Mesh structured(ElementType type, int dim, std::array<int, 3> n, Vec3 len,
         m.node_ids.push_back(m.num_nodes());
       }
   for (auto& c : block.conn) c = index_of[c];
+  if (p > 1 && opt.distortion > 0) {
+    // Straight-sided cells: each higher-order node sits where the cell's linear map puts it.
+    const ElementType linear = info.family == ShapeFamily::simplex
+                                   ? (dim == 2 ? ElementType::tri3 : ElementType::tet4)
+                                   : (dim == 2 ? ElementType::quad4 : ElementType::hex8);
+    const int nc = info.num_corners;
+    for (Index e = 0; e < block.size(); ++e) {
+      const Index* c = block.element(e);
+      for (int a = nc; a < info.num_nodes; ++a) {
+        VecX N;
+        MatX dN;
+        shape_functions(linear, info.ref_coords[a], N, dN);
+        Vec3 x = Vec3::Zero();
+        for (int k = 0; k < nc; ++k) x += N(k) * m.nodes[c[k]];
+        m.nodes[c[a]] = x;
+      }
+    }
+  }
   m.regions["domain"].push_back(std::move(block));
   check_and_orient(m);
 

@@ -108,9 +108,11 @@ void Analysis::begin_step(int s) {
   current_loads_ = &step.loads;
 }
 
-bool Analysis::solve_increment(Real lambda, IncrementRecord& rec, std::string& why) {
+bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
   const NewtonSettings& ns = model_.newton;
   u_ = u_converged_;
+  // Predictor: the free DOFs continue along the last increment of this step, scaled.
+  if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
   for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
   for (auto& b : model_.bodies) b->revert();
   VecX R, du, Rtrial;
@@ -197,6 +199,7 @@ AnalysisSummary Analysis::run() {
   for (int s = 0; s < static_cast<int>(model_.steps.size()); ++s) {
     const Step& step = model_.steps[s];
     begin_step(s);
+    last_dl_ = 0;  // a new step changes the loading path: no extrapolation across it
     log::info("step {} '{}': {} Dirichlet conditions, {} loads", s + 1, step.name, step.dirichlet.size(),
               step.loads.size());
     Real lambda = 0, dl = std::min(step.initial_increment, step.max_increment);
@@ -213,7 +216,7 @@ AnalysisSummary Analysis::run() {
       rec.increment = inc + 1;
       log::Timer t;
       std::string why;
-      const bool ok = solve_increment(lambda + dl, rec, why);
+      const bool ok = solve_increment(lambda + dl, dl, rec, why);
       if (!ok) {
         ++cutbacks;
         const Real next = dl * model_.newton.cutback_factor;
@@ -235,6 +238,8 @@ AnalysisSummary Analysis::run() {
       lambda += dl;
       if (1 - lambda < 1e-12) lambda = 1;
       ++inc;
+      last_du_ = u_ - u_converged_;
+      last_dl_ = dl;
       u_converged_ = u_;
       for (auto& b : model_.bodies) b->commit();
       rec.fraction = lambda;

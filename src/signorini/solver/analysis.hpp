@@ -67,7 +67,7 @@ class Analysis {
   Real evaluate(Real lambda, bool tangent, VecX& residual);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   void begin_step(int s);
-  bool solve_increment(Real lambda, IncrementRecord& rec, std::string& why);
+  bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
 
   Model& model_;
   DofMap dofs_;
@@ -75,6 +75,8 @@ class Analysis {
   AutoLinearSolver linear_solver_;
   bool symmetric_ = true;
   VecX u_, u_converged_, reactions_;
+  VecX last_du_;          // displacement change of the last converged increment of this step
+  Real last_dl_ = 0;      // its size (0: no predictor available)
   std::vector<char> constrained_;
   std::vector<Prescribed> prescribed_;
   std::vector<Load> previous_loads_;

@@ -15,7 +15,10 @@ namespace {
 template <typename EigenSolver>
 class EigenDirect final : public LinearSolver {
  public:
-  explicit EigenDirect(std::string name) : name_(std::move(name)) {}
+  explicit EigenDirect(std::string name) : name_(std::move(name)) {
+    // CHOLMOD prints its own warnings (e.g. "not positive definite"); we report failures.
+    if constexpr (requires(EigenSolver& s) { s.cholmod(); }) solver_.cholmod().print = 0;
+  }
   std::string name() const override { return name_; }
   bool factorize(const SparseMatrix& a) override {
     if (!analysed_ || a.rows() != rows_ || a.nonZeros() != nnz_) {

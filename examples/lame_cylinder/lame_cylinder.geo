@@ -1,0 +1,21 @@
+// Quarter of a thick-walled cylinder (inner radius a, outer radius b), quadratic quads.
+DefineConstant[ a = 0.1, b = 0.2, h = 0.01, order = 2 ];
+Point(1) = {0, 0, 0, h};
+Point(2) = {a, 0, 0, h};
+Point(3) = {b, 0, 0, h};
+Point(4) = {0, b, 0, h};
+Point(5) = {0, a, 0, h};
+Line(1) = {2, 3};
+Circle(2) = {3, 1, 4};
+Line(3) = {4, 5};
+Circle(4) = {5, 1, 2};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Recombine Surface{1};
+Mesh.ElementOrder = order;
+Mesh.SecondOrderIncomplete = 0;
+Physical Surface("Cylinder") = {1};
+Physical Curve("SymX") = {1};
+Physical Curve("Outer") = {2};
+Physical Curve("SymY") = {3};
+Physical Curve("Inner") = {4};

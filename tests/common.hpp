@@ -1,0 +1,81 @@
+// Helpers shared by the tests: a dense GlobalMatrix for tangent checks and a direct linear
+// solve with per-node prescribed displacements (patch tests, manufactured solutions).
+#pragma once
+#include <functional>
+
+#include "signorini/fem/body.hpp"
+#include "signorini/fem/global_system.hpp"
+#include "signorini/solver/linear_solver.hpp"
+
+namespace signorini::test {
+
+class DenseMatrix final : public GlobalMatrix {
+ public:
+  explicit DenseMatrix(Index n) : k(MatX::Zero(n, n)) {}
+  void add(const Index* dofs, int n, const MatX& ke) override {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (dofs[i] >= 0 && dofs[j] >= 0) k(dofs[i], dofs[j]) += ke(i, j);
+  }
+  MatX k;
+};
+
+inline std::vector<const ElementBlock*> cells_of(const Body& b) {
+  std::vector<const ElementBlock*> v;
+  for (auto& blk : b.blocks()) v.push_back(&blk);
+  return v;
+}
+
+// Solves the linear problem fint(u) = fext with u = g(X) on the nodes flagged in `fixed`.
+// One Newton step from `start` (zero if null); returns the full DOF vector.
+inline VecX solve_with_prescribed(Body& body, const Mesh& mesh, const DofMap& dofs, const std::vector<char>& fixed,
+                                  const std::function<Vec3(const Vec3&)>& g, const VecX& fext,
+                                  const VecX* start = nullptr) {
+  SparseSystem sys;
+  sys.build_pattern(dofs, cells_of(body));
+  VecX u = start ? *start : VecX::Zero(dofs.num_dofs());
+  std::vector<char> constrained(dofs.num_dofs(), 0);
+  for (Index n = 0; n < mesh.num_nodes(); ++n)
+    if (fixed[n] && dofs.has_dofs(n)) {
+      Vec3 v = g(mesh.nodes[n]);
+      for (int i = 0; i < dofs.dofs_per_node(); ++i) {
+        u(dofs.dof(n, i)) = v(i);
+        constrained[dofs.dof(n, i)] = 1;
+      }
+    }
+  VecX fint = VecX::Zero(dofs.num_dofs());
+  sys.zero();
+  body.assemble(mesh.nodes, u, dofs, fint, &sys);
+  VecX r = fext - fint;
+  for (Index i = 0; i < r.size(); ++i)
+    if (constrained[i]) r(i) = 0;
+  sys.apply_dirichlet(constrained, sys.mean_abs_diagonal());
+  AutoLinearSolver solver("auto");
+  VecX du;
+  solver.solve(sys.matrix(), true, r, du);
+  return u + du;
+}
+
+}  // namespace signorini::test
+
+#include "signorini/fem/model.hpp"
+
+namespace signorini::test {
+
+// A one-body model on a mesh whose region is "domain" (structured meshes).
+inline Model model_on(Mesh mesh, AnalysisSettings s, std::shared_ptr<Material> mat) {
+  Model m;
+  m.title = "test";
+  m.settings = s;
+  m.mesh = std::move(mesh);
+  orient_facets(m.mesh);
+  m.mesh.complete_node_sets();
+  m.bodies.push_back(std::make_unique<Body>("body", m.mesh.regions["domain"], std::move(mat), s));
+  return m;
+}
+
+inline DirichletCondition fix(const std::string& set, int comp, Real value = 0) {
+  return DirichletCondition{set, comp, std::nullopt, value, ""};
+}
+
+}  // namespace signorini::test

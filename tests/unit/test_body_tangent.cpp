@@ -1,0 +1,159 @@
+// The global tangent of bodies (every analysis type, small and finite strain, several
+// element types) and of follower pressure against central differences of the residual.
+#include <gtest/gtest.h>
+
+#include "common.hpp"
+#include "signorini/fem/surface_load.hpp"
+#include "signorini/mesh/structured.hpp"
+
+using namespace signorini;
+using signorini::test::DenseMatrix;
+
+namespace {
+
+struct Case {
+  Dimension dim;
+  bool finite;
+  ElementType type;
+  bool neo;
+};
+
+std::string describe(const Case& c) {
+  return to_string(c.dim) + (c.finite ? "_finite_" : "_small_") + element_info(c.type).name + (c.neo ? "_NH" : "_LE");
+}
+std::string name_of(const ::testing::TestParamInfo<Case>& i) { return describe(i.param); }
+
+Mesh make_mesh(const Case& c) {
+  StructuredOptions o;
+  o.distortion = 0.15;
+  o.origin = Vec3(0.5, 0, 0);  // keeps r > 0 in axisymmetry
+  return c.dim == Dimension::three_d ? structured_box(c.type, 2, 2, 1, 1.0, 1.0, 0.6, o)
+                                     : structured_rectangle(c.type, 2, 2, 1.0, 0.8, o);
+}
+
+VecX random_displacement(Index n, Real amplitude, unsigned seed) {
+  VecX u(n);
+  unsigned s = seed;
+  for (Index i = 0; i < n; ++i) {
+    s = s * 1664525u + 1013904223u;
+    u(i) = amplitude * (2.0 * (s >> 8) / static_cast<Real>(1u << 24) - 1.0);
+  }
+  return u;
+}
+
+}  // namespace
+
+class BodyTangent : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BodyTangent, MatchesCentralDifferences) {
+  const Case c = GetParam();
+  Mesh mesh = make_mesh(c);
+  AnalysisSettings s;
+  s.dimension = c.dim;
+  s.finite_strain = c.finite;
+  s.thickness = 0.7;
+  std::shared_ptr<Material> mat =
+      c.neo ? std::shared_ptr<Material>(std::make_shared<NeoHookean>(100, 0.3)) : std::make_shared<LinearElastic>(100, 0.3);
+  Body body("b", mesh.regions["domain"], mat, s);
+  DofMap dofs(mesh.num_nodes(), s.spatial_dim(), test::cells_of(body));
+  const VecX u = random_displacement(dofs.num_dofs(), 0.05, 7);
+  DenseMatrix K(dofs.num_dofs());
+  VecX f = VecX::Zero(dofs.num_dofs());
+  body.assemble(mesh.nodes, u, dofs, f, &K);
+  const Real h = 1e-6;
+  Real maxerr = 0, maxk = K.k.cwiseAbs().maxCoeff();
+  for (Index j = 0; j < dofs.num_dofs(); ++j) {
+    VecX up = u, um = u, fp = VecX::Zero(dofs.num_dofs()), fm = fp;
+    up(j) += h;
+    um(j) -= h;
+    body.assemble(mesh.nodes, up, dofs, fp, nullptr);
+    body.assemble(mesh.nodes, um, dofs, fm, nullptr);
+    maxerr = std::max(maxerr, ((fp - fm) / (2 * h) - K.k.col(j)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(maxerr, 1e-6 * maxk) << describe(c);
+  // The tangent of a hyperelastic body is symmetric.
+  EXPECT_LT((K.k - K.k.transpose()).cwiseAbs().maxCoeff(), 1e-10 * maxk) << describe(c);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllAnalysisTypes, BodyTangent,
+    ::testing::Values(Case{Dimension::plane_strain, true, ElementType::quad4, true},
+                      Case{Dimension::plane_strain, true, ElementType::tri6, true},
+                      Case{Dimension::plane_strain, false, ElementType::quad8, false},
+                      Case{Dimension::plane_stress, true, ElementType::quad4, true},
+                      Case{Dimension::plane_stress, true, ElementType::quad9, false},
+                      Case{Dimension::plane_stress, false, ElementType::tri3, false},
+                      Case{Dimension::axisymmetric, true, ElementType::quad4, true},
+                      Case{Dimension::axisymmetric, true, ElementType::tri6, true},
+                      Case{Dimension::axisymmetric, false, ElementType::quad9, false},
+                      Case{Dimension::three_d, true, ElementType::hex8, true},
+                      Case{Dimension::three_d, true, ElementType::tet10, true},
+                      Case{Dimension::three_d, true, ElementType::hex20, false},
+                      Case{Dimension::three_d, false, ElementType::tet4, false},
+                      Case{Dimension::three_d, true, ElementType::hex27, true}),
+    name_of);
+
+class FollowerPressure : public ::testing::TestWithParam<Case> {};
+
+TEST_P(FollowerPressure, LoadStiffnessMatchesCentralDifferences) {
+  const Case c = GetParam();
+  Mesh mesh = make_mesh(c);
+  orient_facets(mesh);
+  AnalysisSettings s;
+  s.dimension = c.dim;
+  s.finite_strain = true;
+  s.thickness = 0.7;
+  std::vector<const ElementBlock*> cells;
+  for (auto& b : mesh.regions["domain"]) cells.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), s.spatial_dim(), cells);
+  FacetLoad load{&mesh.facet_sets["xmax"], Vec3::Zero(), 3.0, true, true};
+  const VecX u = random_displacement(dofs.num_dofs(), 0.05, 11);
+  DenseMatrix K(dofs.num_dofs());
+  VecX f = VecX::Zero(dofs.num_dofs());
+  add_facet_load(load, s, mesh.nodes, u, dofs, 0.8, f, &K);
+  ASSERT_GT(f.norm(), 0);
+  const Real h = 1e-6;
+  Real maxerr = 0;
+  for (Index j = 0; j < dofs.num_dofs(); ++j) {
+    VecX up = u, um = u, fp = VecX::Zero(dofs.num_dofs()), fm = fp;
+    up(j) += h;
+    um(j) -= h;
+    add_facet_load(load, s, mesh.nodes, up, dofs, 0.8, fp, nullptr);
+    add_facet_load(load, s, mesh.nodes, um, dofs, 0.8, fm, nullptr);
+    // The matrix holds -d(fext)/du.
+    maxerr = std::max(maxerr, (-(fp - fm) / (2 * h) - K.k.col(j)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(maxerr, 1e-7 * std::max(1.0, K.k.cwiseAbs().maxCoeff())) << describe(c);
+  EXPECT_GT(K.k.cwiseAbs().maxCoeff(), 0) << describe(c);
+}
+
+INSTANTIATE_TEST_SUITE_P(Facets, FollowerPressure,
+                         ::testing::Values(Case{Dimension::plane_strain, true, ElementType::quad4, true},
+                                           Case{Dimension::plane_strain, true, ElementType::quad9, true},
+                                           Case{Dimension::axisymmetric, true, ElementType::tri6, true},
+                                           Case{Dimension::three_d, true, ElementType::hex8, true},
+                                           Case{Dimension::three_d, true, ElementType::tet10, true},
+                                           Case{Dimension::three_d, true, ElementType::hex27, true}),
+    name_of);
+
+TEST(SurfaceLoad, PressureResultantIsPressureTimesArea) {
+  // Dead pressure p on the x = 1 face of a distorted box: resultant -p * area along x.
+  StructuredOptions o;
+  o.distortion = 0.1;
+  Mesh mesh = structured_box(ElementType::tet10, 2, 3, 2, 1.0, 2.0, 0.5, o);
+  orient_facets(mesh);
+  AnalysisSettings s;
+  s.dimension = Dimension::three_d;
+  std::vector<const ElementBlock*> cells;
+  for (auto& b : mesh.regions["domain"]) cells.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), 3, cells);
+  VecX f = VecX::Zero(dofs.num_dofs()), u = f;
+  FacetLoad load{&mesh.facet_sets["xmax"], Vec3::Zero(), 5.0, true, false};
+  add_facet_load(load, s, mesh.nodes, u, dofs, 1.0, f, nullptr);
+  Vec3 r = Vec3::Zero();
+  for (Index n = 0; n < mesh.num_nodes(); ++n)
+    for (int i = 0; i < 3; ++i) r(i) += f(dofs.dof(n, i));
+  EXPECT_NEAR(r(0), -5.0 * 2.0 * 0.5, 1e-12);
+  EXPECT_NEAR(r(1), 0, 1e-12);
+  EXPECT_NEAR(facet_set_area(mesh.facet_sets["xmax"], s, mesh.nodes), 1.0, 1e-12);
+}

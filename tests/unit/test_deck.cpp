@@ -1,0 +1,170 @@
+// Bad input: every case gives one clear message naming the file, the line and the key.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "signorini/core/error.hpp"
+#include "signorini/io/deck.hpp"
+
+using namespace signorini;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kGood = R"(title: square
+analysis: {dimension: plane_strain}
+mesh: {file: SQUARE}
+materials:
+  steel: {model: linear_elastic, E: 210e9, nu: 0.3}
+bodies:
+  - {name: plate, region: Square, material: steel}
+steps:
+  - name: pull
+    boundary:
+      - {set: Left, ux: 0}
+      - {set: Bottom, uy: 0}
+    loads:
+      - {set: Right, traction: [1e6, 0]}
+)";
+
+std::string with_mesh(std::string deck) {
+  const std::string sq = std::string(SIGNORINI_TEST_DATA) + "/square.geo";
+  for (size_t p; (p = deck.find("SQUARE")) != std::string::npos;) deck.replace(p, 6, sq);
+  return deck;
+}
+
+std::string write_deck(const std::string& name, const std::string& text) {
+  fs::path dir = fs::temp_directory_path() / "signorini_deck_tests";
+  fs::create_directories(dir);
+  fs::path p = dir / (name + ".yaml");
+  std::ofstream(p) << with_mesh(text);
+  return p.string();
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  size_t p = s.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  if (p != std::string::npos) s.replace(p, from.size(), to);
+  return s;
+}
+
+// Reads the deck and returns the error message (fails the test if there was none).
+std::string error_of(const std::string& name, const std::string& text) {
+  const std::string path = write_deck(name, text);
+  try {
+    Registry r = default_registry();
+    read_deck(path, r);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << name << ": no error";
+  return "";
+}
+
+#define EXPECT_MESSAGE(msg, ...)                                            \
+  for (const char* part : {__VA_ARGS__}) EXPECT_NE(std::string(msg).find(part), std::string::npos) \
+      << "expected '" << part << "' in: " << msg
+
+}  // namespace
+
+TEST(Deck, GoodDeckReads) {
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("good", kGood), r);
+  EXPECT_EQ(m.bodies.size(), 1u);
+  EXPECT_EQ(m.steps.size(), 1u);
+  EXPECT_EQ(m.steps[0].dirichlet.size(), 2u);
+  EXPECT_EQ(m.mesh.num_cells(), 16);
+}
+
+TEST(Deck, MalformedYaml) {
+  auto m = error_of("malformed", replace(kGood, "steel: {model", "steel: {{model"));
+  EXPECT_MESSAGE(m, "malformed.yaml:", "malformed YAML");
+}
+
+TEST(Deck, UnknownKeys) {
+  auto m = error_of("unknown_top", kGood + "solverr: {}\n");
+  EXPECT_MESSAGE(m, "unknown_top.yaml:15", "'solverr'", "unknown key");
+  m = error_of("unknown_nested", replace(kGood, "{model: linear_elastic,", "{model: linear_elastic, Young: 3,"));
+  EXPECT_MESSAGE(m, "unknown_nested.yaml:5", "materials.steel.Young", "allowed: model, E, nu");
+  m = error_of("unknown_bc", replace(kGood, "{set: Left, ux: 0}", "{set: Left, ux: 0, fixed: true}"));
+  EXPECT_MESSAGE(m, "unknown_bc.yaml:11", "steps[0].boundary[0].fixed");
+}
+
+TEST(Deck, WrongTypes) {
+  auto m = error_of("type_E", replace(kGood, "E: 210e9", "E: steel"));
+  EXPECT_MESSAGE(m, "type_E.yaml:5", "materials.steel.E", "expected a number");
+  m = error_of("type_list", replace(kGood, "traction: [1e6, 0]", "traction: 1e6"));
+  EXPECT_MESSAGE(m, "type_list.yaml:14", "traction", "expected a list");
+  m = error_of("type_len", replace(kGood, "traction: [1e6, 0]", "traction: [1e6, 0, 0, 0]"));
+  EXPECT_MESSAGE(m, "type_len.yaml:14", "list of 2 numbers");
+  m = error_of("type_bodies", replace(kGood, "  - {name: plate, region: Square, material: steel}", "  plate: 1"));
+  EXPECT_MESSAGE(m, "type_bodies.yaml:7", "bodies", "expected a list");
+}
+
+TEST(Deck, OutOfRange) {
+  auto m = error_of("nu_half", replace(kGood, "nu: 0.3", "nu: 0.5"));
+  EXPECT_MESSAGE(m, "nu_half.yaml:5", "materials.steel.nu", "< 0.5");
+  m = error_of("E_negative", replace(kGood, "E: 210e9", "E: -1"));
+  EXPECT_MESSAGE(m, "E_negative.yaml:5", "materials.steel.E", "> 0");
+  m = error_of("dimension", replace(kGood, "plane_strain", "plain_strain"));
+  EXPECT_MESSAGE(m, "dimension.yaml:2", "analysis.dimension", "plane_strain, plane_stress, axisymmetric, 3d");
+  m = error_of("increments", replace(kGood, "name: pull", "name: pull\n    increments: {initial: 0.1, min: 0.5}"));
+  EXPECT_MESSAGE(m, "increments.yaml:10", "min is larger than initial");
+}
+
+TEST(Deck, MissingFiles) {
+  auto m = error_of("missing_mesh", replace(kGood, "mesh: {file: SQUARE}", "mesh: {file: nowhere.msh}"));
+  EXPECT_MESSAGE(m, "missing_mesh.yaml:3", "mesh.file", "does not exist");
+  try {
+    Registry r = default_registry();
+    read_deck("/nonexistent/deck.yaml", r);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_MESSAGE(e.what(), "/nonexistent/deck.yaml", "does not exist");
+  }
+}
+
+TEST(Deck, UnknownNamesListWhatExists) {
+  auto m = error_of("region", replace(kGood, "region: Square", "region: Circle"));
+  EXPECT_MESSAGE(m, "region.yaml:7", "bodies[0].region", "'Circle'", "regions: Square");
+  m = error_of("set", replace(kGood, "{set: Left, ux: 0}", "{set: Lft, ux: 0}"));
+  EXPECT_MESSAGE(m, "set.yaml:11", "'Lft'", "Bottom, Left, Right, Square, Top");
+  m = error_of("material", replace(kGood, "material: steel}", "material: iron}"));
+  EXPECT_MESSAGE(m, "material.yaml:7", "'iron'", "materials: steel");
+  m = error_of("model", replace(kGood, "model: linear_elastic", "model: elastic"));
+  EXPECT_MESSAGE(m, "model.yaml:5", "'elastic'", "linear_elastic, neo_hookean");
+  m = error_of("facetset", replace(kGood, "{set: Right, traction", "{set: Square, traction"));
+  EXPECT_MESSAGE(m, "facetset.yaml:14", "no facet set", "Bottom, Left, Right, Top");
+}
+
+TEST(Deck, MissingRequiredKeysAndMeshParameters) {
+  auto m = error_of("no_E", replace(kGood, "E: 210e9, ", ""));
+  EXPECT_MESSAGE(m, "no_E.yaml:5", "missing required key 'E'");
+  m = error_of("no_steps", replace(kGood, "steps:", "stepz:"));
+  EXPECT_MESSAGE(m, "no_steps.yaml", "stepz");
+  m = error_of("geo_param", replace(kGood, "SQUARE}", "SQUARE, parameters: {size: 0.1}}"));
+  EXPECT_MESSAGE(m, "geo_param.yaml:3", "mesh.parameters.size", "DefineConstant");
+  m = error_of("dim3", replace(kGood, "plane_strain", "3d"));
+  EXPECT_MESSAGE(m, "dim3.yaml:3", "2D cells but the analysis is 3d");
+}
+
+TEST(Deck, GeoParametersReachGmsh) {
+  Registry r = default_registry();
+  Model coarse = read_deck(write_deck("h1", replace(kGood, "SQUARE}", "SQUARE, parameters: {h: 0.5}}")), r);
+  Model fine = read_deck(write_deck("h2", replace(kGood, "SQUARE}", "SQUARE, parameters: {h: 0.125}}")), r);
+  EXPECT_EQ(coarse.mesh.num_cells(), 4);
+  EXPECT_EQ(fine.mesh.num_cells(), 64);
+}
+
+TEST(Deck, CommandLineReportsErrorAndExitCode) {
+  const std::string path = write_deck("cli_bad", replace(kGood, "nu: 0.3", "nu: 0.7"));
+  const std::string out = (fs::temp_directory_path() / "signorini_cli_out.txt").string();
+  const int rc = std::system((std::string(SIGNORINI_BINARY) + " check " + path + " > " + out + " 2>&1").c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 1);
+  std::ifstream in(out);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_MESSAGE(text, "error: ", "cli_bad.yaml:5", "materials.steel.nu");
+}

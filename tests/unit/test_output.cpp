@@ -1,0 +1,67 @@
+// Output files: VTU structure (sizes and offsets consistent), PVD listing, atomic writes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "signorini/core/error.hpp"
+#include "signorini/io/atomic_file.hpp"
+#include "signorini/io/vtu_writer.hpp"
+#include "signorini/mesh/structured.hpp"
+
+using namespace signorini;
+
+TEST(Output, VtuArraysAreConsistent) {
+  Mesh m = structured_box(ElementType::tet10, 1, 1, 1, 1, 1, 1);
+  VtuData d;
+  d.points = &m.nodes;
+  for (auto& b : m.regions["domain"]) d.cells.push_back(&b);
+  VtuField f{"displacement", 3, std::vector<Real>(3 * m.num_nodes(), 1.5), {}};
+  d.point_fields.push_back(f);
+  const std::string text = vtu_text(d);
+  EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(m.num_nodes()) + "\""), std::string::npos);
+  EXPECT_NE(text.find("NumberOfCells=\"6\""), std::string::npos);
+  // Walk the appended blocks: each starts with its byte count; offsets must match.
+  const size_t start = text.find("<AppendedData encoding=\"raw\">\n_") + std::strlen("<AppendedData encoding=\"raw\">\n_");
+  std::regex off_re("offset=\"(\\d+)\"");
+  std::vector<size_t> offsets;
+  for (std::sregex_iterator it(text.begin(), text.begin() + start, off_re), end; it != end; ++it)
+    offsets.push_back(std::stoul((*it)[1]));
+  ASSERT_EQ(offsets.size(), 5u);  // points, connectivity, offsets, types, displacement
+  size_t pos = 0;
+  const std::vector<size_t> expected_bytes{24 * size_t(m.num_nodes()), 8 * 60, 8 * 6, 6, 24 * size_t(m.num_nodes())};
+  for (size_t k = 0; k < offsets.size(); ++k) {
+    EXPECT_EQ(offsets[k], pos);
+    std::uint64_t n;
+    std::memcpy(&n, text.data() + start + pos, 8);
+    EXPECT_EQ(n, expected_bytes[k]) << "array " << k;
+    pos += 8 + n;
+  }
+  // The last array holds our values.
+  double v;
+  std::memcpy(&v, text.data() + start + offsets[4] + 8, 8);
+  EXPECT_EQ(v, 1.5);
+  // VTK's quadratic tetra type.
+  std::uint8_t type;
+  std::memcpy(&type, text.data() + start + offsets[3] + 8, 1);
+  EXPECT_EQ(type, 24);
+}
+
+TEST(Output, AtomicWriteReplacesWholeFile) {
+  auto p = (std::filesystem::temp_directory_path() / "signorini_atomic.txt").string();
+  write_file_atomically(p, "first version, longer\n");
+  write_file_atomically(p, "second\n");
+  std::ifstream in(p);
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(s, "second\n");
+  EXPECT_FALSE(std::filesystem::exists(p + ".tmp"));
+  EXPECT_THROW(write_file_atomically("/nonexistent-dir/x.txt", "x"), Error);
+}
+
+TEST(Output, PvdListsFilesWithTimes) {
+  std::string s = pvd_text({{0.5, "a.vtu"}, {1.0, "b.vtu"}});
+  EXPECT_NE(s.find("timestep=\"0.5\" part=\"0\" file=\"a.vtu\""), std::string::npos);
+  EXPECT_NE(s.find("timestep=\"1\" part=\"0\" file=\"b.vtu\""), std::string::npos);
+}
