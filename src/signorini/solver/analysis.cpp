@@ -1,7 +1,9 @@
 #include "signorini/solver/analysis.hpp"
 
 #include <algorithm>
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <functional>
 
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
@@ -9,6 +11,69 @@
 namespace signorini {
 
 namespace {
+
+// A rigid motion of the body that no Dirichlet condition stops, described in words, or ""
+// if there is none. The rigid modes (translations, rotations about the centroid scaled by
+// the body size) restricted to the constrained DOFs must have full rank.
+std::string free_rigid_motion(const Body& body, const Mesh& mesh, const DofMap& dofs,
+                              const std::vector<char>& constrained, Dimension dim) {
+  std::vector<char> used(mesh.num_nodes(), 0);
+  Vec3 lo = Vec3::Constant(1e300), hi = -lo, c = Vec3::Zero();
+  Index count = 0;
+  for (auto& b : body.blocks())
+    for (Index n : b.conn)
+      if (!used[n]) {
+        used[n] = 1;
+        lo = lo.cwiseMin(mesh.nodes[n]);
+        hi = hi.cwiseMax(mesh.nodes[n]);
+        c += mesh.nodes[n];
+        ++count;
+      }
+  c /= static_cast<Real>(count);
+  const Real size = std::max((hi - lo).norm(), 1e-300);
+  const int nd = dofs.dofs_per_node();
+  std::vector<std::string> names;
+  // Mode value at node x for component i.
+  std::vector<std::function<Real(const Vec3&, int)>> modes;
+  auto translation = [](int k) { return [k](const Vec3&, int i) { return i == k ? 1.0 : 0.0; }; };
+  auto rotation = [&](int axis) {
+    return [axis, c, size](const Vec3& x, int i) {
+      const Vec3 r = (x - c) / size, w = Vec3::Unit(axis);
+      return w.cross(r)(i);
+    };
+  };
+  if (dim == Dimension::axisymmetric) {
+    modes = {translation(1)};
+    names = {"translate along the axis (z)"};
+  } else if (nd == 2) {
+    modes = {translation(0), translation(1), rotation(2)};
+    names = {"translate in x", "translate in y", "rotate in the plane"};
+  } else {
+    modes = {translation(0), translation(1), translation(2), rotation(0), rotation(1), rotation(2)};
+    names = {"translate in x", "translate in y", "translate in z", "rotate about x", "rotate about y", "rotate about z"};
+  }
+  const int m = static_cast<int>(modes.size());
+  MatX G = MatX::Zero(m, m);
+  for (Index n = 0; n < mesh.num_nodes(); ++n) {
+    if (!used[n]) continue;
+    for (int i = 0; i < nd; ++i) {
+      const Index d = dofs.dof(n, i);
+      if (d < 0 || !constrained[d]) continue;
+      VecX row(m);
+      for (int k = 0; k < m; ++k) row(k) = modes[k](mesh.nodes[n], i);
+      G += row * row.transpose();
+    }
+  }
+  Eigen::SelfAdjointEigenSolver<MatX> eig(G);
+  const Real top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
+  if (eig.eigenvalues()(0) > 1e-10 * top) return "";
+  // Name the free motion by its largest component.
+  const VecX v = eig.eigenvectors().col(0);
+  int k;
+  v.cwiseAbs().maxCoeff(&k);
+  return names[k];
+}
+
 std::vector<const ElementBlock*> all_cells(const Model& m) {
   std::vector<const ElementBlock*> v;
   for (auto& b : m.bodies)
@@ -106,6 +171,13 @@ void Analysis::begin_step(int s) {
     }
   }
   current_loads_ = &step.loads;
+  for (auto& b : model_.bodies) {
+    const std::string motion = free_rigid_motion(*b, model_.mesh, dofs_, constrained_, model_.settings.dimension);
+    if (!motion.empty())
+      throw FatalModelError("step '" + step.name + "': body '" + b->name() + "' is free to " + motion +
+                            ": no Dirichlet condition stops this rigid-body motion, so the solution is not unique "
+                            "(add supports, e.g. a symmetry condition)");
+  }
 }
 
 bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
@@ -133,7 +205,22 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     Real energy0 = 0;
     for (int it = 1; it <= ns.max_iterations; ++it) {
       log::Timer ts;
-      linear_solver_.solve(system_.matrix(), symmetric_, R, du);
+      try {
+        linear_solver_.solve(system_.matrix(), symmetric_, R, du);
+      } catch (const SolverError& e) {
+        // Singular at the very first solve, from the undeformed state: cutting back cannot
+        // help, the model is missing supports.
+        if (it == 1 && summary_.increments.empty() && u_converged_.isZero(0))
+          throw FatalModelError(std::string(e.what()) +
+                                " at the first solve from the undeformed state: the model probably "
+                                "lacks supports (a rigid-body motion is free) in some direction");
+        throw;
+      }
+      if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) &&
+                              du.cwiseAbs().maxCoeff() > 1e8 * (1 + u_.cwiseAbs().maxCoeff()) &&
+                              du.cwiseAbs().maxCoeff() > 1e6))
+        throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
+                              "probably lacks supports (a rigid-body motion is free) in some direction");
       summary_.solve_seconds += ts.seconds();
       rec.linear_solver = linear_solver_.last_used();
       const Real energy = std::abs(du.dot(R));
@@ -184,6 +271,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", ns.max_iterations,
                       rec.residuals.back());
     return false;
+  } catch (const FatalModelError&) {
+    throw;
   } catch (const SolverError& e) {
     why = e.what();
     return false;
@@ -191,6 +280,17 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
 }
 
 AnalysisSummary Analysis::run() {
+  try {
+    return run_steps();
+  } catch (const FatalModelError& e) {
+    for (auto& b : model_.bodies) b->revert();
+    u_ = u_converged_;
+    summary_.failure = e.what();
+    return summary_;
+  }
+}
+
+AnalysisSummary Analysis::run_steps() {
   log::Timer total;
   summary_ = {};
   previous_loads_.clear();

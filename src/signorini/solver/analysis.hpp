@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "signorini/core/error.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
 #include "signorini/fem/model.hpp"
@@ -14,6 +15,12 @@
 #include "signorini/solver/linear_solver.hpp"
 
 namespace signorini {
+
+// A failure no cutback can cure (a singular model): the analysis stops at once.
+class FatalModelError : public SolverError {
+ public:
+  using SolverError::SolverError;
+};
 
 struct IncrementRecord {
   int step = 0;              // 0-based
@@ -42,6 +49,8 @@ class Analysis {
 
   // Called after every converged increment (to write results) with the record.
   void on_increment(std::function<void(const Analysis&, const IncrementRecord&)> f) { observer_ = std::move(f); }
+  // Runs every step; never throws for a problem the analysis can diagnose: the summary says
+  // completed, or why it gave up (the state is then the last converged one).
   AnalysisSummary run();
 
   const Model& model() const { return model_; }
@@ -66,6 +75,7 @@ class Analysis {
   // assembles the tangent too if asked. Returns the force scale for the relative test.
   Real evaluate(Real lambda, bool tangent, VecX& residual);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
+  AnalysisSummary run_steps();
   void begin_step(int s);
   bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
 

@@ -1,0 +1,207 @@
+// The analysis driver: loads and their resultants, ramps across steps, automatic cutback,
+// giving up with the last converged state, linear solver choices, a model without supports.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "common.hpp"
+#include "signorini/core/log.hpp"
+#include "signorini/mesh/structured.hpp"
+#include "signorini/solver/analysis.hpp"
+
+using namespace signorini;
+using test::fix;
+
+namespace {
+
+Model block(Dimension dim, bool finite = false, ElementType t = ElementType::quad4) {
+  log::set_level(log::Level::warning);
+  AnalysisSettings s;
+  s.dimension = dim;
+  s.finite_strain = finite;
+  s.thickness = 0.5;
+  Mesh mesh = dim == Dimension::three_d ? structured_box(ElementType::hex8, 2, 4, 2, 1, 2, 1)
+                                        : structured_rectangle(t, 2, 4, 1, 2);
+  return test::model_on(std::move(mesh), s, std::make_shared<NeoHookean>(1000, 0.3));
+}
+
+Load load(LoadKind k, const std::string& set, Vec3 v, Real p = 0) {
+  Load l;
+  l.kind = k;
+  l.set = set;
+  l.vector = v;
+  l.pressure = p;
+  return l;
+}
+
+}  // namespace
+
+TEST(Analysis, BodyForceReactionIsWeight) {
+  for (Dimension d : {Dimension::plane_strain, Dimension::axisymmetric, Dimension::three_d}) {
+    Model m = block(d);
+    Step s;
+    s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+    if (d == Dimension::three_d) s.dirichlet.push_back(fix("ymin", 2));
+    s.loads = {load(LoadKind::body_force, "body", Vec3(0, -10, 0))};
+    m.steps = {s};
+    Analysis a(m);
+    ASSERT_TRUE(a.run().completed);
+    const Real volume = d == Dimension::plane_strain ? 1 * 2 * 0.5 : d == Dimension::axisymmetric ? std::numbers::pi * 2 : 2;
+    EXPECT_NEAR(a.reaction_sum("ymin")(1), 10 * volume, 1e-9 * 10 * volume) << to_string(d);
+    EXPECT_NEAR(m.bodies[0]->volume(m.mesh.nodes), volume, 1e-12) << to_string(d);
+  }
+}
+
+TEST(Analysis, NodalForceAndTractionAreBalanced) {
+  Model m = block(Dimension::plane_strain);
+  Step s;
+  s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+  s.loads = {load(LoadKind::nodal_force, "ymax", Vec3(2, -5, 0)), load(LoadKind::traction, "xmax", Vec3(3, 0, 0))};
+  m.steps = {s};
+  Analysis a(m);
+  ASSERT_TRUE(a.run().completed);
+  // Traction 3 on a side of height 2 and thickness 0.5: a force of 3 along x.
+  EXPECT_NEAR(a.reaction_sum("ymin")(0), -(2 + 3), 1e-9);
+  EXPECT_NEAR(a.reaction_sum("ymin")(1), 5, 1e-9);
+}
+
+TEST(Analysis, RampsAcrossSteps) {
+  Model m = block(Dimension::plane_strain);
+  Step s1, s2, s3;
+  s1.name = "pull";
+  s1.initial_increment = s1.max_increment = 0.25;
+  s1.dirichlet = {fix("xmin", 0), fix("ymin", 1), fix("xmax", 0, 0.01)};
+  s2 = s1;
+  s2.name = "jump";
+  s2.dirichlet[2].start = 0.02;  // {ramp: [0.02, 0.03]}
+  s2.dirichlet[2].end = 0.03;
+  s3.name = "force then release";
+  s3.dirichlet = {fix("xmin", 0), fix("ymin", 1)};
+  s3.loads = {load(LoadKind::nodal_force, "xmax", Vec3(1, 0, 0))};
+  Step s4 = s3;
+  s4.name = "release";
+  s4.loads.clear();
+  m.steps = {s1, s2, s3, s4};
+  Analysis a(m);
+  std::vector<std::pair<Real, Real>> history;  // (time, ux at a node of xmax)
+  const Index node = m.mesh.node_sets["xmax"].front();
+  a.on_increment([&](const Analysis& an, const IncrementRecord& r) {
+    history.emplace_back(r.time, an.displacement()(an.dofs().dof(node, 0)));
+  });
+  ASSERT_TRUE(a.run().completed);
+  ASSERT_GE(history.size(), 8u);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(history[k].second, 0.01 * history[k].first, 1e-15);
+  EXPECT_NEAR(history[4].second, 0.02 + 0.25 * 0.01, 1e-15);
+  EXPECT_NEAR(history[7].second, 0.03, 1e-15);
+  // Step 3 starts from the end of step 2 with xmax free: the unloaded bar springs back,
+  // and with the force removed in step 4 it ends where it started.
+  EXPECT_NEAR(history.back().second, 0.0, 1e-12);
+}
+
+TEST(Analysis, CutsBackAndRecovers) {
+  Model m = block(Dimension::plane_strain, true);
+  m.newton.max_iterations = 4;
+  Step s;
+  s.initial_increment = 1;
+  s.dirichlet = {fix("xmin", 0), fix("ymin", 1), fix("xmax", 0, -0.45)};
+  m.steps = {s};
+  Analysis a(m);
+  AnalysisSummary sum = a.run();
+  ASSERT_TRUE(sum.completed) << sum.failure;
+  int cutbacks = 0;
+  for (auto& r : sum.increments) cutbacks += r.cutbacks;
+  EXPECT_GT(cutbacks, 0);
+  EXPECT_NEAR(sum.increments.back().fraction, 1.0, 1e-14);
+}
+
+TEST(Analysis, GivesUpWithReasonAndKeepsLastConvergedState) {
+  Model m = block(Dimension::plane_strain, true);
+  m.newton.max_iterations = 2;
+  Step s;
+  s.initial_increment = 0.5;
+  s.max_increment = 0.5;
+  s.min_increment = 0.2;
+  s.dirichlet = {fix("xmin", 0), fix("ymin", 1), fix("xmax", 0, -0.6)};
+  m.steps = {s};
+  Analysis a(m);
+  AnalysisSummary sum = a.run();
+  EXPECT_FALSE(sum.completed);
+  EXPECT_NE(sum.failure.find("minimum"), std::string::npos) << sum.failure;
+  EXPECT_NE(sum.failure.find("last converged state is kept"), std::string::npos) << sum.failure;
+  // The state is the last converged one: zero if none converged, else that increment's.
+  const Index node = m.mesh.node_sets["xmax"].front();
+  const Real ux = a.displacement()(a.dofs().dof(node, 0));
+  const Real expected = sum.increments.empty() ? 0.0 : -0.6 * sum.increments.back().fraction;
+  EXPECT_NEAR(ux, expected, 1e-14);
+}
+
+TEST(Analysis, MissingSupportsFailFastWithAClearReason) {
+  Model m = block(Dimension::plane_strain);
+  Step s;
+  s.dirichlet = {fix("ymin", 1)};  // x is free: rigid translation
+  s.loads = {load(LoadKind::nodal_force, "ymax", Vec3(0, -1, 0))};
+  m.steps = {s};
+  Analysis a(m);
+  AnalysisSummary sum = a.run();
+  EXPECT_FALSE(sum.completed);
+  EXPECT_NE(sum.failure.find("free to translate in x"), std::string::npos) << sum.failure;
+  EXPECT_TRUE(sum.increments.empty());
+  // A bottom edge held in y and one node held in x: no rigid motion left.
+  Model ok = block(Dimension::plane_strain);
+  ok.mesh.node_sets["corner"] = {ok.mesh.node_sets["xmin"].front()};
+  Step s2 = s;
+  s2.dirichlet.push_back(fix("corner", 0));
+  ok.steps = {s2};
+  Analysis a2(ok);
+  EXPECT_TRUE(a2.run().completed);
+  // 3D, only y held on a face: translations in x and z and the rotation about y are free.
+  Model rot = block(Dimension::three_d);
+  Step s3;
+  s3.dirichlet = {fix("ymin", 1)};
+  rot.steps = {s3};
+  Analysis a3(rot);
+  AnalysisSummary sum3 = a3.run();
+  EXPECT_FALSE(sum3.completed);
+  EXPECT_NE(sum3.failure.find("free to"), std::string::npos) << sum3.failure;
+}
+
+TEST(Analysis, EveryLinearSolverGivesTheSameAnswer) {
+  VecX reference;
+  for (const std::string& solver : linear_solver_names()) {
+    Model m = block(Dimension::plane_strain);
+    m.linear_solver = solver;
+    Step s;
+    s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+    s.loads = {load(LoadKind::traction, "ymax", Vec3(1, -4, 0))};
+    m.steps = {s};
+    Analysis a(m);
+    AnalysisSummary sum = a.run();
+    ASSERT_TRUE(sum.completed) << solver;
+    if (solver != "auto") EXPECT_EQ(sum.increments[0].linear_solver, solver);
+    if (reference.size() == 0) reference = a.displacement();
+    EXPECT_LT((a.displacement() - reference).norm(), 1e-10 * reference.norm()) << solver;
+  }
+}
+
+TEST(Analysis, FollowerPressurePicksAnUnsymmetricSolver) {
+  Model m = block(Dimension::plane_strain, true);
+  Step s;
+  s.initial_increment = 0.5;
+  s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+  s.loads = {load(LoadKind::pressure, "ymax", Vec3::Zero(), 50.0)};
+  m.steps = {s};
+  Analysis a(m);
+  AnalysisSummary sum = a.run();
+  ASSERT_TRUE(sum.completed) << sum.failure;
+  EXPECT_EQ(sum.increments[0].linear_solver, "umfpack");
+  // Equilibrium: the reaction balances the pressure resultant on the deformed top face,
+  // which stays horizontal here by symmetry of the load: -p * current width * thickness.
+  Real xmin = 1e9, xmax = -1e9;
+  for (Index n : m.mesh.node_sets["ymax"]) {
+    const Real x = m.mesh.nodes[n](0) + a.displacement()(a.dofs().dof(n, 0));
+    xmin = std::min(xmin, x);
+    xmax = std::max(xmax, x);
+  }
+  EXPECT_NEAR(a.reaction_sum("ymin")(1), 50.0 * (xmax - xmin) * 0.5, 1e-6 * 50);
+}
