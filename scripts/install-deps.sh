@@ -4,7 +4,7 @@
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build ccache pkg-config
-  libeigen3-dev libsuitesparse-dev libgmsh-dev gmsh
+  libeigen3-dev libsuitesparse-dev libopenblas0-pthread libgmsh-dev gmsh
   libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3-numpy python3-matplotlib
