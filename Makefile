@@ -27,7 +27,8 @@ test-long: build
 	@cd $(BUILD_DIR) && ctest -L long --output-on-failure
 
 bench: build
-	@$(BUILD_DIR)/bench/bench_elasticity
+	@$(BUILD_DIR)/bench/bench_elasticity --type hex8 --dofs 1000000
+	@$(BUILD_DIR)/bench/bench_elasticity --type tet10 --dofs 1000000
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -13,6 +13,8 @@ class DenseMatrix final : public GlobalMatrix {
  public:
   explicit DenseMatrix(Index n) : k(MatX::Zero(n, n)) {}
   void add(const Index* dofs, int n, const MatX& ke) override {
+    // add() is called from the assembly's threads: serialize.
+#pragma omp critical(signorini_dense_matrix)
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
         if (dofs[i] >= 0 && dofs[j] >= 0) k(dofs[i], dofs[j]) += ke(i, j);

@@ -168,3 +168,16 @@ TEST(Deck, CommandLineReportsErrorAndExitCode) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_MESSAGE(text, "error: ", "cli_bad.yaml:5", "materials.steel.nu");
 }
+
+TEST(Deck, DocsMentionEveryRegisteredKey) {
+  std::ifstream in(std::string(SIGNORINI_SOURCE_DIR) + "/docs/deck.md");
+  ASSERT_TRUE(in) << "docs/deck.md is missing";
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Registry r = default_registry();
+  for (const TypeSpec* t : r.all()) {
+    EXPECT_NE(doc.find("`" + t->name), std::string::npos) << "docs/deck.md does not mention " << t->name;
+    for (auto& p : t->params)
+      EXPECT_NE(doc.find("`" + p.name + "`"), std::string::npos)
+          << "docs/deck.md does not document key '" << p.name << "' of " << t->name;
+  }
+}

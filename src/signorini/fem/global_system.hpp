@@ -16,6 +16,7 @@ class GlobalMatrix {
  public:
   virtual ~GlobalMatrix() = default;
   // Adds the dense block `k` (n x n) at rows and columns `dofs` (entries < 0 are skipped).
+  // Called concurrently from the assembly threads: implementations must be thread safe.
   virtual void add(const Index* dofs, int n, const MatX& k) = 0;
 };
 

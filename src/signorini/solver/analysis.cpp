@@ -85,7 +85,7 @@ std::vector<const ElementBlock*> all_cells(const Model& m) {
 Analysis::Analysis(Model& model)
     : model_(model),
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model)),
-      linear_solver_(model.linear_solver) {
+      linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d) {
   system_.build_pattern(dofs_, all_cells(model));
   u_ = VecX::Zero(dofs_.num_dofs());
   u_converged_ = u_;

@@ -2,6 +2,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
 #include <Eigen/UmfPackSupport>
 
@@ -42,10 +43,32 @@ class EigenDirect final : public LinearSolver {
   Index rows_ = 0, nnz_ = 0;
 };
 
+// Conjugate gradients preconditioned by an incomplete Cholesky factorization (Lin & More),
+// for large symmetric positive definite systems where a direct factor does not fit in memory.
+class EigenCg final : public LinearSolver {
+ public:
+  std::string name() const override { return "eigen_cg"; }
+  bool factorize(const SparseMatrix& a) override {
+    solver_.setTolerance(1e-10);
+    solver_.setMaxIterations(std::max<Index>(1000, a.rows() / 10));
+    solver_.compute(a);
+    return solver_.info() == Eigen::Success;
+  }
+  bool solve(const VecX& b, VecX& x) override {
+    x = solver_.solve(b);
+    iterations_ = solver_.iterations();
+    return solver_.info() == Eigen::Success && x.allFinite();
+  }
+  Index iterations_ = 0;
+
+ private:
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<Real, Eigen::Lower, Eigen::AMDOrdering<int>>> solver_;
+};
+
 }  // namespace
 
 const std::vector<std::string>& linear_solver_names() {
-  static const std::vector<std::string> n{"auto", "cholmod", "umfpack", "eigen_ldlt", "eigen_lu"};
+  static const std::vector<std::string> n{"auto", "cholmod", "umfpack", "eigen_ldlt", "eigen_lu", "eigen_cg"};
   return n;
 }
 
@@ -57,15 +80,17 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name) {
     return std::make_unique<EigenDirect<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>>(name);
   if (name == "eigen_lu")
     return std::make_unique<EigenDirect<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>>(name);
+  if (name == "eigen_cg") return std::make_unique<EigenCg>();
   throw Error("unknown linear solver '" + name + "'");
 }
 
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
   std::string want = choice_;
-  if (want == "auto") want = symmetric ? "cholmod" : "umfpack";
+  if (want == "auto")
+    want = !symmetric ? "umfpack" : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
   if (!solver_ || solver_->name() != want) solver_ = make_linear_solver(want);
   if (solver_->factorize(a) && solver_->solve(b, x)) return;
-  if (choice_ == "auto" && want == "cholmod") {
+  if (choice_ == "auto" && want != "umfpack") {
     // Not positive definite (instability, or an unsymmetric part): LU instead.
     solver_ = make_linear_solver("umfpack");
     if (solver_->factorize(a) && solver_->solve(b, x)) return;

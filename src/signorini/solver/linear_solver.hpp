@@ -1,7 +1,8 @@
-// Sparse direct solvers behind one interface: CHOLMOD (symmetric positive definite),
-// UMFPACK (general), and Eigen's own LDLT and LU that always build. `auto` picks CHOLMOD
-// for a symmetric matrix and UMFPACK otherwise, and falls back to UMFPACK when a
-// Cholesky factorization fails.
+// Sparse solvers behind one interface: CHOLMOD (symmetric positive definite), UMFPACK
+// (general), Eigen's own LDLT and LU that always build, and Eigen's conjugate gradients with
+// an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (CG for
+// a symmetric 3D system above `iterative_threshold` DOFs, where a direct factor would not fit
+// in memory) and UMFPACK otherwise, and falls back to UMFPACK when Cholesky or CG fails.
 #pragma once
 #include <memory>
 #include <string>
@@ -26,13 +27,16 @@ const std::vector<std::string>& linear_solver_names();  // for the registry and 
 // Chooses per factorization: holds the selected solver and falls back as documented.
 class AutoLinearSolver {
  public:
-  explicit AutoLinearSolver(std::string choice) : choice_(std::move(choice)) {}
+  explicit AutoLinearSolver(std::string choice, bool three_d = false)
+      : choice_(std::move(choice)), three_d_(three_d) {}
+  static constexpr Index iterative_threshold = 200000;
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
   std::string last_used() const { return solver_ ? solver_->name() : "none"; }
 
  private:
   std::string choice_;
+  bool three_d_;
   std::unique_ptr<LinearSolver> solver_;
 };
 
