@@ -181,3 +181,41 @@ TEST(Deck, DocsMentionEveryRegisteredKey) {
           << "docs/deck.md does not document key '" << p.name << "' of " << t->name;
   }
 }
+
+TEST(Deck, RunThatGivesUpKeepsLastConvergedStateOnDisk) {
+  // Step 1 (a small squash) converges; step 2 squashes a finite-strain block to a tenth of
+  // its height in increments of at least 0.5 with two Newton iterations: it gives up.
+  std::string deck = replace(kGood, "analysis: {dimension: plane_strain}",
+                             "analysis: {dimension: plane_strain, kinematics: finite_strain}");
+  deck = replace(deck, "    loads:\n      - {set: Right, traction: [1e6, 0]}\n",
+                 "      - {set: Top, uy: -0.01}\n"
+                 "  - name: squash\n"
+                 "    increments: {initial: 0.5, min: 0.5, max: 0.5}\n"
+                 "    boundary:\n"
+                 "      - {set: Left, ux: 0}\n"
+                 "      - {set: Bottom, uy: 0}\n"
+                 "      - {set: Top, uy: -0.9}\n");
+  deck += "solver: {max_iterations: 2}\n";
+  const std::string path = write_deck("gives_up", deck);
+  const fs::path out = fs::temp_directory_path() / "signorini_gives_up";
+  fs::remove_all(out);
+  const int rc = std::system((std::string(SIGNORINI_BINARY) + " run -q " + path + " -o " + out.string() +
+                              " > " + (out.string() + ".log") + " 2>&1")
+                                 .c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::ifstream log(out.string() + ".log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_MESSAGE(text, "Analysis gave up", "minimum", "last converged");
+  std::ifstream js(out / "summary.json");
+  const std::string json((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+  EXPECT_MESSAGE(json, "\"status\": \"failed\"", "\"failure\": \"step 'squash'");
+  std::ifstream pvd(out / "results.pvd");
+  const std::string listing((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
+  EXPECT_MESSAGE(listing, "increment_00_0000.vtu", "increment_01_0001.vtu");
+  EXPECT_TRUE(fs::exists(out / "increment_01_0001.vtu"));
+  EXPECT_FALSE(fs::exists(out / "increment_02_0001.vtu"));
+  std::ifstream csv(out / "reactions.csv");
+  const std::string rows((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_MESSAGE(rows, "step,increment,time", "\n1,1,", ",Left,");
+}

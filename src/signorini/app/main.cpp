@@ -55,6 +55,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only) {
   Analysis analysis(model);
   fmt::print("  unknowns   {} DOFs, {} threads\n", analysis.dofs().num_dofs(), omp_get_max_threads());
   std::fflush(stdout);
+  writer.write_initial(analysis);
   analysis.on_increment([&](const Analysis& a, const IncrementRecord& r) { writer.write_increment(a, r); });
   AnalysisSummary s = analysis.run();
   auto checks = evaluate_checks(analysis);
@@ -62,7 +63,11 @@ int run(const std::string& deck, const std::string& outdir, bool check_only) {
   fmt::print("\n");
   if (!s.completed) {
     fmt::print("Analysis gave up: {}\n", s.failure);
-    fmt::print("Results up to the last converged increment: {}/ (ParaView: {})\n", dir, writer.pvd_path());
+    if (s.increments.empty())
+      fmt::print("No increment converged; the initial state is in {}/ (ParaView: {})\n", dir, writer.pvd_path());
+    else
+      fmt::print("Results up to the last converged increment (time {:.6g}) are in {}/ (ParaView: {})\n",
+                 s.increments.back().time, dir, writer.pvd_path());
     return 2;
   }
   fmt::print("Solved '{}': {} steps, {} increments, {} Newton iterations, {:.2f} s (assembly {:.2f} s, linear solve "

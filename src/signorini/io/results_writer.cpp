@@ -114,6 +114,12 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   write_file_atomically(pvd_path(), pvd_text(pvd_));
 }
 
+void ResultsWriter::write_initial(const Analysis& a) {
+  write_file_atomically(dir_ + "/reactions.csv", csv_);
+  if (model_.output.vtu != "none") write_vtu(a, 0.0, -1, 0);
+  write_json(a, a.summary(), "running", {});
+}
+
 void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& rec) {
   for (auto& set : a.reaction_sets()) {
     Vec3 r = a.reaction_sum(set);

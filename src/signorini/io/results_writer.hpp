@@ -21,6 +21,8 @@ std::vector<CheckResult> evaluate_checks(const Analysis& analysis);
 class ResultsWriter {
  public:
   ResultsWriter(const Model& model, std::string directory);
+  // The initial (undeformed) state at time 0, so every run has a PVD and a CSV from the start.
+  void write_initial(const Analysis& a);
   void write_increment(const Analysis& a, const IncrementRecord& rec);
   // Final JSON (and the last VTU when vtu: last). `failure` empty when the run completed.
   void finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks);
