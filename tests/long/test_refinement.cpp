@@ -1,36 +1,20 @@
-// Refinement studies (ctest label `long`, run with `make test-long`): a third and fourth
-// mesh level for the 3D cantilever and the axisymmetric Lamé cylinder, printing the error
-// tables of docs/validation.md and asserting the asymptotic orders.
+// Refinement studies (ctest label `long`, run with `make test-long`): the axisymmetric Lamé
+// cylinder on five meshes, printing the error table of docs/validation.md and asserting the
+// asymptotic orders.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "common.hpp"
-#include "signorini/core/log.hpp"
-#include "signorini/mesh/structured.hpp"
+#include "lame_problem.hpp"
 #include "signorini/solver/analysis.hpp"
 
 using namespace signorini;
 
 namespace {
-// Lamé (Timoshenko & Goodier 1970, sec. 28), axisymmetric slice, max nodal error of u_r.
+// Max nodal error of u_r relative to u_r(a), axisymmetric slice of n x n cells.
 Real lame_error(ElementType type, int n) {
-  log::set_level(log::Level::warning);
-  const Real a = 0.1, b = 0.2, p = 1e8, E = 210e9, nu = 0.3, A = p * a * a / (b * b - a * a);
-  auto ur = [&](Real r) { return (1 + nu) / E * A * ((1 - 2 * nu) * r + b * b / r); };
-  StructuredOptions o;
-  o.origin = Vec3(a, 0, 0);
-  AnalysisSettings s;
-  s.dimension = Dimension::axisymmetric;
-  Model m = test::model_on(structured_rectangle(type, n, 2, b - a, 0.02, o), s, std::make_shared<LinearElastic>(E, nu));
-  Step st;
-  st.dirichlet = {test::fix("ymin", 1), test::fix("ymax", 1)};
-  Load l;
-  l.kind = LoadKind::pressure;
-  l.set = "xmin";
-  l.pressure = p;
-  st.loads = {l};
-  m.steps = {st};
+  using namespace signorini::test::lame;
+  Model m = model(Dimension::axisymmetric, type, n);
   Analysis an(m);
   EXPECT_TRUE(an.run().completed);
   Real err = 0;
