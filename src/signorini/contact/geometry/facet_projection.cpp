@@ -1,0 +1,195 @@
+#include "signorini/contact/geometry/facet_projection.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+#include "signorini/fem/shape.hpp"
+
+namespace signorini {
+
+namespace {
+
+// Second derivatives of the facet's shape functions: central differences of the analytic
+// first derivatives, exact to round-off because every facet shape function has degree <= 2
+// in each parameter.
+void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<Mat2>& d2) {
+  const ElementInfo& e = element_info(t);
+  d2.assign(e.num_nodes, Mat2::Zero());
+  const Real h = 1e-3;
+  VecX N;
+  MatX dp, dm;
+  for (int b = 0; b < params; ++b) {
+    Vec3 xp = xi, xm = xi;
+    xp(b) += h;
+    xm(b) -= h;
+    shape_functions(t, xp, N, dp);
+    shape_functions(t, xm, N, dm);
+    for (int i = 0; i < e.num_nodes; ++i)
+      for (int a = 0; a < params; ++a) d2[i](a, b) = (dp(i, a) - dm(i, a)) / (2 * h);
+  }
+  for (auto& m : d2) m = 0.5 * (m + m.transpose()).eval();
+}
+
+Vec3 normal_from_basis(const Vec3* a, int params) {
+  if (params == 1) return Vec3(a[0](1), -a[0](0), 0).normalized();
+  return a[0].cross(a[1]).normalized();
+}
+
+// Fills point, basis, metric, normal, curvature at fp.xi.
+void evaluate(ElementType t, const std::vector<Vec3>& x, int params, FacetProjection& fp, const Vec3& p) {
+  VecX N;
+  MatX dN;
+  shape_functions(t, fp.xi, N, dN);
+  fp.point.setZero();
+  fp.a[0].setZero();
+  fp.a[1].setZero();
+  for (size_t i = 0; i < x.size(); ++i) {
+    fp.point += N(i) * x[i];
+    for (int a = 0; a < params; ++a) fp.a[a] += dN(i, a) * x[i];
+  }
+  fp.A = Mat2::Identity();
+  for (int a = 0; a < params; ++a)
+    for (int b = 0; b < params; ++b) fp.A(a, b) = fp.a[a].dot(fp.a[b]);
+  fp.normal = normal_from_basis(fp.a, params);
+  fp.gap = (p - fp.point).dot(fp.normal);
+  std::vector<Mat2> d2;
+  second_derivatives(t, fp.xi, params, d2);
+  fp.H.setZero();
+  for (size_t i = 0; i < x.size(); ++i)
+    for (int a = 0; a < params; ++a)
+      for (int b = 0; b < params; ++b) fp.H(a, b) += d2[i](a, b) * x[i].dot(fp.normal);
+}
+
+}  // namespace
+
+bool inside_reference(ElementType facet, const Vec3& xi, Real tol) {
+  const ElementInfo& e = element_info(facet);
+  if (e.family == ShapeFamily::simplex) return xi(0) >= -tol && xi(1) >= -tol && xi(0) + xi(1) <= 1 + tol;
+  for (int d = 0; d < e.dim; ++d)
+    if (std::abs(xi(d)) > 1 + tol) return false;
+  return true;
+}
+
+Vec3 facet_normal(ElementType facet, const std::vector<Vec3>& x, const Vec3& xi, int dim) {
+  FacetProjection fp;
+  fp.xi = xi;
+  evaluate(facet, x, dim - 1, fp, Vec3::Zero());
+  return fp.normal;
+}
+
+FacetProjection project_on_facet(ElementType facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
+                                 Real inside_tolerance) {
+  const ElementInfo& e = element_info(facet);
+  FacetProjection fp;
+  fp.params = dim - 1;
+  const int np = fp.params;
+  // Start from the facet centre.
+  fp.xi = e.family == ShapeFamily::simplex ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Zero();
+  // Newton on F_alpha = a_alpha . (p - x(xi)) = 0 with Jacobian -(A - g H).
+  for (int it = 0; it < 30; ++it) {
+    evaluate(facet, x, np, fp, p);
+    const Vec3 r = p - fp.point;
+    Eigen::Vector2d F = Eigen::Vector2d::Zero();
+    for (int a = 0; a < np; ++a) F(a) = fp.a[a].dot(r);
+    const Mat2 M = (fp.A - fp.gap * fp.H).topLeftCorner(2, 2);
+    Eigen::Vector2d d = Eigen::Vector2d::Zero();
+    if (np == 1) d(0) = F(0) / M(0, 0);
+    else d = M.lu().solve(F);
+    fp.iterations = it + 1;
+    const Real scale = std::sqrt(fp.A.trace());
+    if (!std::isfinite(d.norm()) || fp.xi.cwiseAbs().maxCoeff() > 1e3) break;
+    for (int a = 0; a < np; ++a) fp.xi(a) += d(a);
+    if (d.norm() < 1e-13 || F.norm() < 1e-14 * scale * (r.norm() + scale)) {
+      evaluate(facet, x, np, fp, p);
+      fp.converged = true;
+      break;
+    }
+  }
+  fp.inside = fp.converged && inside_reference(facet, fp.xi, inside_tolerance);
+  return fp;
+}
+
+void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
+                    MatX& hess, MatX* dxi) {
+  // Notation (derivation in docs/contact.md): y = x_s - sum N_i x_i at fixed xi,
+  //   Y_g = d(a_g . y), Q_a = d(n . sum N_i,a x_i), M = A - g H,
+  //   Xi_b = d(xi_b) = M^-1 (Y + g Q), grad g = d(n . y) = [n, -N_1 n, ...],
+  //   hess g = -A^{ag} Y_g (x) (Q_a + H_ab Xi_b) - Q_a (x) Xi_a.
+  const ElementInfo& e = element_info(facet);
+  const int nn = e.num_nodes, np = fp.params, n = (nn + 1) * dim;
+  VecX N;
+  MatX dN;
+  shape_functions(facet, fp.xi, N, dN);
+  grad.setZero(n);
+  std::vector<VecX> Y(np, VecX::Zero(n)), Q(np, VecX::Zero(n)), Xi(np, VecX::Zero(n));
+  for (int d = 0; d < dim; ++d) {
+    grad(d) = fp.normal(d);
+    for (int a = 0; a < np; ++a) Y[a](d) = fp.a[a](d);
+  }
+  for (int i = 0; i < nn; ++i)
+    for (int d = 0; d < dim; ++d) {
+      const int k = (i + 1) * dim + d;
+      grad(k) = -N(i) * fp.normal(d);
+      for (int a = 0; a < np; ++a) {
+        Y[a](k) = -N(i) * fp.a[a](d);
+        Q[a](k) = dN(i, a) * fp.normal(d);
+      }
+    }
+  const Mat2 M = fp.A - fp.gap * fp.H;
+  Mat2 Minv = Mat2::Zero(), Ainv = Mat2::Zero();
+  if (np == 1) {
+    Minv(0, 0) = 1 / M(0, 0);
+    Ainv(0, 0) = 1 / fp.A(0, 0);
+  } else {
+    Minv = M.inverse();
+    Ainv = fp.A.inverse();
+  }
+  for (int b = 0; b < np; ++b)
+    for (int g = 0; g < np; ++g) Xi[b] += Minv(b, g) * (Y[g] + fp.gap * Q[g]);
+  hess.setZero(n, n);
+  for (int a = 0; a < np; ++a) {
+    VecX qh = Q[a];
+    for (int b = 0; b < np; ++b) qh += fp.H(a, b) * Xi[b];
+    for (int g = 0; g < np; ++g) hess.noalias() -= Ainv(a, g) * Y[g] * qh.transpose();
+    hess.noalias() -= Q[a] * Xi[a].transpose();
+  }
+  if (dxi) {
+    dxi->resize(n, np);
+    for (int a = 0; a < np; ++a) dxi->col(a) = Xi[a];
+  }
+}
+
+PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_normal, int dim, VecX* grad,
+                   MatX* hess) {
+  PointGap pg;
+  const Vec3 d = slave - vertex;
+  const Real len = d.norm();
+  const Real s = d.dot(reference_normal) >= 0 ? 1.0 : -1.0;
+  pg.gap = s * len;
+  pg.normal = len > 0 ? Vec3(s * d / len) : reference_normal;
+  if (grad) {
+    grad->setZero(2 * dim);
+    for (int k = 0; k < dim; ++k) {
+      (*grad)(k) = pg.normal(k);
+      (*grad)(dim + k) = -pg.normal(k);
+    }
+  }
+  if (hess) {
+    hess->setZero(2 * dim, 2 * dim);
+    if (len > 0) {
+      // d2(s |d|)/dd2 = s (I - m m)/|d| with m = d/|d|.
+      const Vec3 m = d / len;
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) {
+          const Real v = s * ((i == j ? 1.0 : 0.0) - m(i) * m(j)) / len;
+          (*hess)(i, j) = v;
+          (*hess)(dim + i, dim + j) = v;
+          (*hess)(i, dim + j) = -v;
+          (*hess)(dim + i, j) = -v;
+        }
+    }
+  }
+  return pg;
+}
+
+}  // namespace signorini

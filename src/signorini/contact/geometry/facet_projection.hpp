@@ -1,0 +1,57 @@
+// Contact geometry on a master facet: closest-point projection of a slave point by Newton
+// iterations in the facet parameters, normal gap, covariant basis, metric and curvature,
+// and the first and second variations of the gap with respect to the slave and facet nodes
+// (Wriggers, Computational Contact Mechanics, 2nd ed., 2006, sec. 4.3; course eqs. 4-6).
+// Sign convention: g > 0 open, g < 0 penetration; the normal is the master's outward one.
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "signorini/core/types.hpp"
+#include "signorini/mesh/element_type.hpp"
+
+namespace signorini {
+
+using Mat2 = Eigen::Matrix<Real, 2, 2>;
+
+struct FacetProjection {
+  int params = 1;            // facet parameters: 1 (2D: line2, line3) or 2 (3D surfaces)
+  Vec3 xi = Vec3::Zero();    // parameters of the closest point
+  Vec3 point = Vec3::Zero(); // the closest point x(xi)
+  Vec3 normal = Vec3::Zero();
+  Real gap = 0;              // (slave - point) . normal
+  Vec3 a[2];                 // covariant basis a_alpha = dx/dxi_alpha
+  Mat2 A = Mat2::Identity(); // metric a_alpha . a_beta
+  Mat2 H = Mat2::Zero();     // curvature n . x_{,alpha beta}
+  bool converged = false;
+  bool inside = false;       // xi inside the reference facet (with tolerance)
+  int iterations = 0;
+};
+
+// The outward normal of a facet at parameters xi; `dim` is the space dimension (2 or 3).
+Vec3 facet_normal(ElementType facet, const std::vector<Vec3>& x, const Vec3& xi, int dim);
+
+// Closest-point projection of `p` on the facet with current nodal positions `x`.
+FacetProjection project_on_facet(ElementType facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
+                                 Real inside_tolerance = 1e-9);
+
+// Whether xi lies in the facet's reference domain, up to tol.
+bool inside_reference(ElementType facet, const Vec3& xi, Real tol);
+
+// Gradient and Hessian of the gap with respect to the DOFs [x_slave, x_1, ..., x_N]
+// (dim components per node) at a converged projection; `dxi` (optional) gets the gradient of
+// each facet parameter (one column per parameter).
+void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
+                    MatX& hess, MatX* dxi = nullptr);
+
+// Node-to-vertex: gap s |x_s - x_v| with s = sign((x_s - x_v) . n_ref) for a reference
+// normal n_ref (the average normal of the facets at the vertex); gradient and Hessian with
+// respect to [x_s, x_v].
+struct PointGap {
+  Real gap = 0;
+  Vec3 normal = Vec3::Zero();
+};
+PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_normal, int dim, VecX* grad,
+                   MatX* hess);
+
+}  // namespace signorini

@@ -1,0 +1,157 @@
+// Contact geometry: closest-point projection on every facet type (inside, outside, curved
+// facets), and the gap's first and second variations and the parameter's first variation
+// against central differences of a fresh projection.
+#include <gtest/gtest.h>
+
+#include "signorini/contact/geometry/facet_projection.hpp"
+#include "signorini/fem/shape.hpp"
+
+using namespace signorini;
+
+namespace {
+
+// A distorted, curved facet: reference coordinates mapped into space, with a bump.
+std::vector<Vec3> facet_nodes(ElementType t, int dim) {
+  const ElementInfo& e = element_info(t);
+  std::vector<Vec3> x;
+  unsigned s = 99;
+  auto rnd = [&]() {
+    s = s * 1664525u + 1013904223u;
+    return 2.0 * (s >> 8) / static_cast<Real>(1u << 24) - 1.0;
+  };
+  for (auto& r : e.ref_coords) {
+    Vec3 p;
+    if (dim == 2) p = Vec3(0.7 * r(0) + 0.05 * rnd(), 0.1 * r(0) * r(0) + 0.03 * rnd(), 0);
+    else p = Vec3(0.8 * r(0) + 0.2 * r(1) + 0.04 * rnd(), 0.1 * r(0) + 0.9 * r(1) + 0.04 * rnd(),
+                  0.15 * (r(0) * r(0) + 0.5 * r(1) * r(1)) + 0.03 * rnd());
+    x.push_back(p);
+  }
+  // Linear facets stay planar/straight where they must (a tri3 is always planar).
+  return x;
+}
+
+Vec3 interior_target(ElementType t, int dim, const std::vector<Vec3>& x, Real height) {
+  const ElementInfo& e = element_info(t);
+  const Vec3 xi = e.family == ShapeFamily::simplex ? Vec3(0.3, 0.25, 0) : Vec3(0.2, dim == 3 ? -0.3 : 0, 0);
+  VecX N;
+  MatX dN;
+  shape_functions(t, xi, N, dN);
+  Vec3 c = Vec3::Zero();
+  for (size_t i = 0; i < x.size(); ++i) c += N(i) * x[i];
+  return c + height * facet_normal(t, x, xi, dim);
+}
+
+struct GeoCase {
+  ElementType type;
+  int dim;
+  Real height;
+};
+
+std::string name_of(const ::testing::TestParamInfo<GeoCase>& i) {
+  return element_info(i.param.type).name + (i.param.height > 0 ? "_open" : "_penetrating");
+}
+
+}  // namespace
+
+class ContactGeometry : public ::testing::TestWithParam<GeoCase> {};
+
+TEST_P(ContactGeometry, ProjectionIsOrthogonalAndInside) {
+  const GeoCase c = GetParam();
+  const auto x = facet_nodes(c.type, c.dim);
+  const Vec3 p = interior_target(c.type, c.dim, x, c.height);
+  FacetProjection fp = project_on_facet(c.type, x, p, c.dim);
+  ASSERT_TRUE(fp.converged) << element_info(c.type).name;
+  EXPECT_TRUE(fp.inside);
+  EXPECT_LT(fp.iterations, 10);
+  for (int a = 0; a < c.dim - 1; ++a) EXPECT_NEAR(fp.a[a].dot(p - fp.point), 0, 1e-12);
+  EXPECT_NEAR(std::abs(fp.gap), (p - fp.point).norm(), 1e-12);
+  EXPECT_EQ(fp.gap > 0, c.height > 0) << "sign of the gap";
+}
+
+TEST_P(ContactGeometry, VariationsMatchCentralDifferences) {
+  const GeoCase c = GetParam();
+  const int dim = c.dim;
+  auto x = facet_nodes(c.type, dim);
+  Vec3 p = interior_target(c.type, dim, x, c.height);
+  FacetProjection fp = project_on_facet(c.type, x, p, dim);
+  ASSERT_TRUE(fp.converged);
+  VecX grad;
+  MatX hess, dxi;
+  gap_variations(c.type, x, fp, dim, grad, hess, &dxi);
+  const int n = static_cast<int>(grad.size());
+  auto perturbed = [&](int k, Real h) {
+    auto xx = x;
+    Vec3 pp = p;
+    const int node = k / dim, comp = k % dim;
+    if (node == 0) pp(comp) += h;
+    else xx[node - 1](comp) += h;
+    return std::make_pair(xx, pp);
+  };
+  const Real h = 1e-6;
+  Real err_g = 0, err_h = 0, err_xi = 0;
+  for (int k = 0; k < n; ++k) {
+    auto [xp, pp] = perturbed(k, h);
+    auto [xm, pm] = perturbed(k, -h);
+    FacetProjection fpp = project_on_facet(c.type, xp, pp, dim), fpm = project_on_facet(c.type, xm, pm, dim);
+    err_g = std::max(err_g, std::abs((fpp.gap - fpm.gap) / (2 * h) - grad(k)));
+    for (int a = 0; a < dim - 1; ++a) err_xi = std::max(err_xi, std::abs((fpp.xi(a) - fpm.xi(a)) / (2 * h) - dxi(k, a)));
+    VecX gp, gm;
+    MatX tmp;
+    gap_variations(c.type, xp, fpp, dim, gp, tmp);
+    gap_variations(c.type, xm, fpm, dim, gm, tmp);
+    err_h = std::max(err_h, ((gp - gm) / (2 * h) - hess.col(k)).cwiseAbs().maxCoeff());
+  }
+  const std::string what = element_info(c.type).name;
+  EXPECT_LT(err_g, 1e-8) << what << ": gap gradient";
+  EXPECT_LT(err_xi, 1e-7) << what << ": parameter gradient";
+  EXPECT_LT(err_h, 1e-6 * std::max(1.0, hess.cwiseAbs().maxCoeff())) << what << ": gap Hessian";
+  EXPECT_LT((hess - hess.transpose()).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, hess.cwiseAbs().maxCoeff()))
+      << what << ": Hessian is not symmetric";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryFacet, ContactGeometry,
+    ::testing::Values(GeoCase{ElementType::line2, 2, 0.2}, GeoCase{ElementType::line2, 2, -0.1},
+                      GeoCase{ElementType::line3, 2, 0.2}, GeoCase{ElementType::line3, 2, -0.1},
+                      GeoCase{ElementType::tri3, 3, 0.2}, GeoCase{ElementType::tri3, 3, -0.1},
+                      GeoCase{ElementType::quad4, 3, 0.2}, GeoCase{ElementType::quad4, 3, -0.1},
+                      GeoCase{ElementType::tri6, 3, 0.2}, GeoCase{ElementType::tri6, 3, -0.1},
+                      GeoCase{ElementType::quad8, 3, 0.2}, GeoCase{ElementType::quad8, 3, -0.1},
+                      GeoCase{ElementType::quad9, 3, 0.2}, GeoCase{ElementType::quad9, 3, -0.1}),
+    name_of);
+
+TEST(ContactGeometry, PointsBeyondTheFacetAreNotInside) {
+  std::vector<Vec3> seg{Vec3(0, 0, 0), Vec3(1, 0, 0)};
+  // The outward normal of a line from (0,0) to (1,0) is (0, -1): the body lies above.
+  FacetProjection fp = project_on_facet(ElementType::line2, seg, Vec3(1.5, -0.2, 0), 2);
+  EXPECT_TRUE(fp.converged);
+  EXPECT_FALSE(fp.inside);
+  EXPECT_NEAR(fp.xi(0), 2.0, 1e-12);
+  EXPECT_NEAR(fp.gap, 0.2, 1e-12);
+  std::vector<Vec3> tri{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  fp = project_on_facet(ElementType::tri3, tri, Vec3(0.8, 0.8, 0.3), 3);
+  EXPECT_FALSE(fp.inside);
+  EXPECT_NEAR(fp.gap, 0.3, 1e-12);
+}
+
+TEST(ContactGeometry, PointGapVariations) {
+  const Vec3 s(0.3, 0.4, 0.2), v(0.1, 0.1, 0.05), nref(0, 1, 0);
+  for (int dim : {2, 3}) {
+    Vec3 s2 = s, v2 = v;
+    if (dim == 2) s2(2) = v2(2) = 0;
+    VecX g;
+    MatX H;
+    PointGap pg = point_gap(s2, v2, nref, dim, &g, &H);
+    EXPECT_GT(pg.gap, 0);
+    const Real h = 1e-6;
+    for (int k = 0; k < 2 * dim; ++k) {
+      Vec3 sp = s2, sm = s2, vp = v2, vm = v2;
+      (k < dim ? sp : vp)(k % dim) += h;
+      (k < dim ? sm : vm)(k % dim) -= h;
+      VecX gp, gm;
+      const Real fp = point_gap(sp, vp, nref, dim, &gp, nullptr).gap, fm = point_gap(sm, vm, nref, dim, &gm, nullptr).gap;
+      EXPECT_NEAR((fp - fm) / (2 * h), g(k), 1e-8);
+      EXPECT_LT(((gp - gm) / (2 * h) - H.col(k)).cwiseAbs().maxCoeff(), 1e-6);
+    }
+  }
+}
