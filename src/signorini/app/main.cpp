@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "signorini/app/bench_search.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
@@ -113,12 +114,24 @@ int main(int argc, char** argv) {
   check_cmd->add_option("deck", deck, "deck file (.yaml)")->required();
   auto* describe_cmd = app.add_subcommand("describe", "print the parameters of a registered type or deck section");
   describe_cmd->add_option("type", type, "type name (no name: list them all)");
+  auto* bench_cmd = app.add_subcommand("bench", "benchmarks");
+  bench_cmd->require_subcommand(1);
+  auto* bench_search_cmd = bench_cmd->add_subcommand("search", "contact search on two curved 3D surfaces");
+  BenchSearchOptions bso;
+  bench_search_cmd->add_option("--slave-nodes", bso.slave_nodes, "number of slave nodes")->check(CLI::Range(4, 100000000));
+  bench_search_cmd->add_option("--master-facets", bso.master_facets, "number of master triangles")
+      ->check(CLI::Range(2, 100000000));
+  bench_search_cmd->add_option("--threads", threads, "number of threads (default: all cores)")->check(CLI::Range(1, 1024));
+  bench_search_cmd->add_option("--method", bso.method, "one method (default: bucket_grid and bvh)")
+      ->check(CLI::IsMember({"bucket_grid", "bvh"}));
+  bench_search_cmd->add_option("--check", bso.check_subset, "slave nodes checked against all_to_all");
   CLI11_PARSE(app, argc, argv);
 
   if (threads > 0) omp_set_num_threads(threads);
   if (quiet) log::set_level(log::Level::warning);
   if (verbose) log::set_level(log::Level::debug);
   try {
+    if (bench_search_cmd->parsed()) return bench_search(bso);
     if (describe_cmd->parsed()) {
       const Registry r = default_registry();
       if (type.empty()) {

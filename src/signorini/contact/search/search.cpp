@@ -1,0 +1,395 @@
+#include "signorini/contact/search/search.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+namespace {
+
+constexpr Real kInf = std::numeric_limits<Real>::infinity();
+
+Real point_segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const Real len2 = ab.squaredNorm();
+  Real t = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return (p - (a + t * ab)).squaredNorm();
+}
+
+// Squared distance to a triangle: the foot of the perpendicular if it falls inside,
+// otherwise the nearest of the three edges.
+Real point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const Vec3 n = ab.cross(ac);
+  const Real n2 = n.squaredNorm();
+  if (n2 > 0) {
+    // Barycentric coordinates of the projection of p on the plane.
+    const Real v = n.dot(ap.cross(ac)) / n2;
+    const Real w = n.dot(ab.cross(ap)) / n2;
+    if (v >= 0 && w >= 0 && v + w <= 1) {
+      const Real d = n.dot(ap);
+      return d * d / n2;
+    }
+  }
+  return std::min({point_segment_distance2(p, a, b), point_segment_distance2(p, b, c), point_segment_distance2(p, c, a)});
+}
+
+// Per-facet record for the accelerated methods: centroid, bounding radius, id, corners.
+struct Record {
+  Vec3 centroid;
+  Real radius;
+  Index id;
+  std::array<Vec3, 4> corners;
+};
+
+Record make_record(const SearchFacets& f, Index i) {
+  Record r;
+  r.id = i;
+  r.centroid.setZero();
+  const Vec3* c = f.facet(i);
+  for (int k = 0; k < f.corners; ++k) {
+    r.corners[k] = c[k];
+    r.centroid += c[k];
+  }
+  r.centroid /= f.corners;
+  r.radius = 0;
+  for (int k = 0; k < f.corners; ++k) r.radius = std::max(r.radius, (c[k] - r.centroid).norm());
+  return r;
+}
+
+inline Real record_distance(const Record& r, int n, const Vec3& p) { return point_facet_distance(r.corners.data(), n, p); }
+
+// ---- all-to-all: the reference ----
+class AllToAll final : public ContactSearch {
+ public:
+  std::string name() const override { return "all_to_all"; }
+  void build(const SearchFacets& f) override { facets_ = &f; }
+  void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
+    hits.assign(pts.size(), SearchHit{});
+#pragma omp parallel for schedule(dynamic, 64)
+    for (Index i = 0; i < static_cast<Index>(pts.size()); ++i) {
+      SearchHit h;
+      for (Index f = 0; f < facets_->size(); ++f) {
+        const Real d = point_facet_distance(facets_->facet(f), facets_->corners, pts[i]);
+        if (d < h.distance && d <= dmax) h = {f, d};
+      }
+      hits[i] = h;
+    }
+  }
+
+ private:
+  const SearchFacets* facets_ = nullptr;
+};
+
+// ---- uniform bucket grid ----
+// Facets are binned by centroid (counting sort) into cells of about three mean edge
+// lengths and stored contiguously in cell order. A query starts from the facet closest to
+// the previous point of the same thread (neighbouring nodes have neighbouring answers),
+// then visits only the cells that can still hold a closer facet, pruning facets by their
+// bounding sphere before the exact distance.
+class BucketGrid final : public ContactSearch {
+ public:
+  std::string name() const override { return "bucket_grid"; }
+  void build(const SearchFacets& f) override {
+    corners_ = f.corners;
+    const Index n = f.size();
+    // Buffers keep their capacity between builds: re-detection in a later increment
+    // allocates nothing.
+    centroid_.resize(n);
+    cell_of_.resize(n);
+    Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+    Real rmax = 0, edge_sum = 0;
+    const int edges = f.corners == 2 ? 1 : f.corners;
+#pragma omp parallel
+    {
+      Vec3 tlo = Vec3::Constant(kInf), thi = Vec3::Constant(-kInf);
+      Real tr = 0, te = 0;
+#pragma omp for schedule(static) nowait
+      for (Index i = 0; i < n; ++i) {
+        const Vec3* c = f.facet(i);
+        Vec3 m = Vec3::Zero();
+        for (int k = 0; k < f.corners; ++k) m += c[k];
+        m /= f.corners;
+        Real r2 = 0;
+        for (int k = 0; k < f.corners; ++k) r2 = std::max(r2, (c[k] - m).squaredNorm());
+        for (int k = 0; k < edges; ++k) te += (c[(k + 1) % f.corners] - c[k]).norm();
+        centroid_[i] = m;
+        tlo = tlo.cwiseMin(m);
+        thi = thi.cwiseMax(m);
+        tr = std::max(tr, r2);
+      }
+#pragma omp critical(signorini_grid_bounds)
+      {
+        lo = lo.cwiseMin(tlo);
+        hi = hi.cwiseMax(thi);
+        rmax = std::max(rmax, tr);
+        edge_sum += te;
+      }
+    }
+    lo_ = lo;
+    rmax_ = std::sqrt(rmax);
+    spheres_.resize(n);
+    corner_data_.resize(n * f.corners);
+    ids_.resize(n);
+    if (n == 0) return;
+    const Real mean_edge = edge_sum / (static_cast<Real>(n) * edges);
+    cell_ = std::max(3 * mean_edge, 1e-12 * std::max(1.0, (hi - lo_).norm()));
+    for (int d = 0; d < 3; ++d) dims_[d] = std::max<Index>(1, static_cast<Index>((hi(d) - lo_(d)) / cell_) + 1);
+    // Keep the number of cells in proportion to the facets (thin or sparse surfaces).
+    while (dims_[0] * dims_[1] * dims_[2] > 8 * n + 8) {
+      cell_ *= 1.5;
+      for (int d = 0; d < 3; ++d) dims_[d] = std::max<Index>(1, static_cast<Index>((hi(d) - lo_(d)) / cell_) + 1);
+    }
+    const Index ncell = dims_[0] * dims_[1] * dims_[2];
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) cell_of_[i] = cell_index(centroid_[i]);
+    // Counting sort of the facets by cell, then the records written once, in cell order.
+    start_.assign(ncell + 1, 0);
+    for (Index i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
+    for (Index c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
+    position_.resize(n);
+    {
+      std::vector<Index>& fill = order_;
+      fill.assign(start_.begin(), start_.end() - 1);
+      for (Index i = 0; i < n; ++i) position_[i] = fill[cell_of_[i]]++;
+    }
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const Index k = position_[i];
+      const Vec3* c = f.facet(i);
+      Sphere& sp = spheres_[k];
+      sp.c = centroid_[i];
+      Real r2 = 0;
+      for (int j = 0; j < f.corners; ++j) {
+        corner_data_[k * f.corners + j] = c[j];
+        r2 = std::max(r2, (c[j] - sp.c).squaredNorm());
+      }
+      sp.r = std::sqrt(r2);
+      ids_[k] = i;
+    }
+  }
+
+  void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
+    hits.assign(pts.size(), SearchHit{});
+    if (spheres_.empty()) return;
+#pragma omp parallel
+    {
+      Index hint = -1;
+#pragma omp for schedule(static)
+      for (Index i = 0; i < static_cast<Index>(pts.size()); ++i) {
+        hits[i] = query(pts[i], dmax, hint);
+        if (hits[i].facet >= 0) hint = position_[hits[i].facet];
+      }
+    }
+  }
+
+ private:
+  Index cell_coord(Real x, int d) const {
+    return std::clamp<Index>(static_cast<Index>(std::floor((x - lo_(d)) / cell_)), 0, dims_[d] - 1);
+  }
+  Index cell_index(const Vec3& x) const {
+    return (cell_coord(x(2), 2) * dims_[1] + cell_coord(x(1), 1)) * dims_[0] + cell_coord(x(0), 0);
+  }
+  // Best facet among the cells that can hold one closer than `limit`.
+  void scan(const Vec3& p, SearchHit& best, Real limit) const {
+    const Real reach = limit + rmax_;
+    Index lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = cell_coord(p(d) - reach, d);
+      hi[d] = cell_coord(p(d) + reach, d);
+    }
+    Real bound = limit;
+    for (Index k = lo[2]; k <= hi[2]; ++k)
+      for (Index j = lo[1]; j <= hi[1]; ++j) {
+        const Index row = (k * dims_[1] + j) * dims_[0];
+        for (Index c = row + lo[0]; c <= row + hi[0]; ++c)
+          for (Index r = start_[c]; r < start_[c + 1]; ++r) {
+            const Sphere& sp = spheres_[r];
+            const Real reach_r = bound + sp.r;
+            if ((p - sp.c).squaredNorm() >= reach_r * reach_r) continue;
+            const Real d = point_facet_distance(corner_data_.data() + r * corners_, corners_, p);
+            if (d < bound || (d == bound && d < best.distance)) {
+              bound = d;
+              best = {ids_[r], d};
+            }
+          }
+      }
+  }
+  SearchHit query(const Vec3& p, Real dmax, Index hint) const {
+    SearchHit best;
+    if (hint >= 0) {
+      const Real d = point_facet_distance(corner_data_.data() + hint * corners_, corners_, p);
+      if (d <= dmax) {
+        best = {ids_[hint], d};
+        scan(p, best, d);
+        return best;
+      }
+    }
+    // No usable hint: grow the search radius until a facet is found or dmax is reached.
+    for (Real r = cell_;; r *= 2) {
+      const Real limit = std::min(r, dmax);
+      scan(p, best, std::nextafter(limit, kInf));
+      if (best.facet >= 0 || limit >= dmax) return best;
+    }
+  }
+
+  struct Sphere {
+    Vec3 c;
+    Real r;
+  };
+  int corners_ = 3;
+  std::vector<Sphere> spheres_;     // bounding spheres in cell order (the hot loop)
+  std::vector<Vec3> corner_data_;   // corners in the same order
+  std::vector<Index> ids_;          // facet id of each slot
+  std::vector<Index> start_, position_, cell_of_, order_;
+  std::vector<Vec3> centroid_;
+  Vec3 lo_ = Vec3::Zero();
+  Real cell_ = 1, rmax_ = 0;
+  Index dims_[3] = {1, 1, 1};
+};
+
+// ---- AABB tree ----
+class AabbTree final : public ContactSearch {
+ public:
+  std::string name() const override { return "bvh"; }
+  void build(const SearchFacets& f) override {
+    corners_ = f.corners;
+    const Index n = f.size();
+    records_.resize(n);
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) records_[i] = make_record(f, i);
+    nodes_.clear();
+    if (n == 0) return;
+    nodes_.reserve(2 * n / kLeaf + 2);
+    build_node(0, n);
+    position_.resize(n);
+    for (Index k = 0; k < n; ++k) position_[records_[k].id] = k;
+  }
+  void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
+    hits.assign(pts.size(), SearchHit{});
+    if (records_.empty()) return;
+#pragma omp parallel
+    {
+      Index hint = -1;
+      std::vector<Index> stack;
+#pragma omp for schedule(static)
+      for (Index i = 0; i < static_cast<Index>(pts.size()); ++i) {
+        const Vec3& p = pts[i];
+        SearchHit best;
+        Real bound = std::nextafter(dmax, kInf);
+        if (hint >= 0) {
+          const Real d = record_distance(records_[hint], corners_, p);
+          if (d <= dmax) {
+            best = {records_[hint].id, d};
+            bound = d;
+          }
+        }
+        stack.assign(1, 0);
+        while (!stack.empty()) {
+          const Node& nd = nodes_[stack.back()];
+          stack.pop_back();
+          if (box_distance(nd, p) >= bound) continue;
+          if (nd.left < 0) {
+            for (Index r = nd.begin; r < nd.end; ++r) {
+              const Record& rec = records_[r];
+              const Real d = record_distance(rec, corners_, p);
+              if (d < bound || (d == bound && d < best.distance)) {
+                bound = d;
+                best = {rec.id, d};
+              }
+            }
+          } else {
+            // Visit the nearer child first.
+            const Index a = nd.left, b = nd.right;
+            const bool a_first = box_distance(nodes_[a], p) <= box_distance(nodes_[b], p);
+            stack.push_back(a_first ? b : a);
+            stack.push_back(a_first ? a : b);
+          }
+        }
+        hits[i] = best;
+        if (best.facet >= 0) hint = position_[best.facet];
+      }
+    }
+  }
+
+ private:
+  static constexpr Index kLeaf = 4;
+  struct Node {
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    Index begin = 0, end = 0;
+    Index left = -1, right = -1;
+  };
+  static Real box_distance(const Node& n, const Vec3& p) {
+    return (p - p.cwiseMax(n.lo).cwiseMin(n.hi)).norm();
+  }
+  Index build_node(Index begin, Index end) {
+    const Index id = static_cast<Index>(nodes_.size());
+    nodes_.push_back(Node{});
+    Vec3 lo = Vec3::Constant(kInf), hi = -lo, clo = lo, chi = hi;
+    for (Index r = begin; r < end; ++r) {
+      for (int k = 0; k < corners_; ++k) {
+        lo = lo.cwiseMin(records_[r].corners[k]);
+        hi = hi.cwiseMax(records_[r].corners[k]);
+      }
+      clo = clo.cwiseMin(records_[r].centroid);
+      chi = chi.cwiseMax(records_[r].centroid);
+    }
+    nodes_[id].lo = lo;
+    nodes_[id].hi = hi;
+    nodes_[id].begin = begin;
+    nodes_[id].end = end;
+    if (end - begin <= kLeaf) return id;
+    int axis;
+    (chi - clo).maxCoeff(&axis);
+    const Index mid = (begin + end) / 2;
+    std::nth_element(records_.begin() + begin, records_.begin() + mid, records_.begin() + end,
+                     [axis](const Record& a, const Record& b) { return a.centroid(axis) < b.centroid(axis); });
+    const Index l = build_node(begin, mid);
+    const Index r = build_node(mid, end);
+    nodes_[id].left = l;
+    nodes_[id].right = r;
+    return id;
+  }
+  int corners_ = 3;
+  std::vector<Record> records_;
+  std::vector<Node> nodes_;
+  std::vector<Index> position_;
+};
+
+}  // namespace
+
+Real SearchFacets::mean_edge_length() const {
+  const Index n = size();
+  if (n == 0) return 0;
+  Real s = 0;
+  const int edges = corners == 2 ? 1 : corners;
+  for (Index f = 0; f < n; ++f) {
+    const Vec3* c = facet(f);
+    for (int k = 0; k < edges; ++k) s += (c[(k + 1) % corners] - c[k]).norm();
+  }
+  return s / (n * edges);
+}
+
+Real point_facet_distance(const Vec3* c, int n, const Vec3& p) {
+  if (n == 2) return std::sqrt(point_segment_distance2(p, c[0], c[1]));
+  if (n == 3) return std::sqrt(point_triangle_distance2(p, c[0], c[1], c[2]));
+  return std::sqrt(std::min(point_triangle_distance2(p, c[0], c[1], c[2]), point_triangle_distance2(p, c[0], c[2], c[3])));
+}
+
+const std::vector<std::string>& search_method_names() {
+  static const std::vector<std::string> n{"bucket_grid", "bvh", "all_to_all"};
+  return n;
+}
+
+std::unique_ptr<ContactSearch> make_search(const std::string& method) {
+  if (method == "bucket_grid") return std::make_unique<BucketGrid>();
+  if (method == "bvh") return std::make_unique<AabbTree>();
+  if (method == "all_to_all") return std::make_unique<AllToAll>();
+  throw Error("unknown search method '" + method + "' (bucket_grid, bvh, all_to_all)");
+}
+
+}  // namespace signorini

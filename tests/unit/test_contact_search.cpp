@@ -1,0 +1,107 @@
+// Contact search: every method returns the same closest facet distance as all-to-all, on
+// curved non-matching surfaces, on random triangle soups, on 2D segments and quadrilaterals,
+// with and without a detection distance; point-facet distances against brute force.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "signorini/contact/search/sample_surfaces.hpp"
+
+using namespace signorini;
+
+namespace {
+
+void expect_all_agree(const SearchFacets& facets, const std::vector<Vec3>& pts, Real dmax, const std::string& what) {
+  auto ref_search = make_search("all_to_all");
+  ref_search->build(facets);
+  std::vector<SearchHit> ref;
+  ref_search->closest(pts, dmax, ref);
+  Index found = 0;
+  for (auto& h : ref) found += h.facet >= 0;
+  EXPECT_GT(found, 0) << what;
+  for (const char* m : {"bucket_grid", "bvh"}) {
+    auto s = make_search(m);
+    for (int pass = 0; pass < 2; ++pass) {  // the second build reuses buffers
+      s->build(facets);
+      std::vector<SearchHit> hits;
+      s->closest(pts, dmax, hits);
+      ASSERT_EQ(hits.size(), ref.size());
+      for (size_t i = 0; i < pts.size(); ++i) {
+        ASSERT_EQ(hits[i].facet < 0, ref[i].facet < 0) << what << " " << m << " point " << i;
+        if (ref[i].facet >= 0) {
+          EXPECT_NEAR(hits[i].distance, ref[i].distance, 1e-15) << what << " " << m << " point " << i;
+          // The facet found is at that distance (ties between facets may pick either).
+          EXPECT_NEAR(point_facet_distance(facets.facet(hits[i].facet), facets.corners, pts[i]), ref[i].distance, 1e-15);
+        }
+      }
+    }
+  }
+}
+
+unsigned g_seed = 4242;
+Real rnd() {
+  g_seed = g_seed * 1664525u + 1013904223u;
+  return (g_seed >> 8) / static_cast<Real>(1u << 24);
+}
+
+}  // namespace
+
+TEST(ContactSearch, CurvedNonMatchingSurfaces) {
+  SampleSurfaces s = sample_surfaces(3000, 4000);
+  const Real h = s.master.mean_edge_length();
+  expect_all_agree(s.master, s.slave_nodes, 2 * h, "curved, d_max = 2h");
+  expect_all_agree(s.master, s.slave_nodes, 1.05e-3, "curved, d_max near the 1e-3 offset (some found)");
+  expect_all_agree(s.master, s.slave_nodes, 10.0, "curved, large d_max");
+}
+
+TEST(ContactSearch, RandomTriangleSoupAndQuads) {
+  SearchFacets tris;
+  tris.corners = 3;
+  for (int f = 0; f < 600; ++f) {
+    const Vec3 c(rnd(), rnd(), rnd());
+    for (int k = 0; k < 3; ++k) tris.points.push_back(c + 0.08 * Vec3(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5));
+  }
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 800; ++i) pts.emplace_back(1.2 * rnd() - 0.1, 1.2 * rnd() - 0.1, 1.2 * rnd() - 0.1);
+  expect_all_agree(tris, pts, 0.1, "random triangles");
+  SearchFacets quads;
+  quads.corners = 4;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      auto z = [](Real x, Real y) { return 0.2 * std::sin(3 * x) * y; };
+      const Real x0 = i / 20.0, x1 = (i + 1) / 20.0, y0 = j / 20.0, y1 = (j + 1) / 20.0;
+      quads.points.insert(quads.points.end(), {Vec3(x0, y0, z(x0, y0)), Vec3(x1, y0, z(x1, y0)), Vec3(x1, y1, z(x1, y1)),
+                                              Vec3(x0, y1, z(x0, y1))});
+    }
+  expect_all_agree(quads, pts, 0.2, "quadrilaterals");
+}
+
+TEST(ContactSearch, SegmentsIn2D) {
+  SearchFacets segs;
+  segs.corners = 2;
+  const int n = 200;
+  for (int i = 0; i < n; ++i) {
+    const Real t0 = 2 * M_PI * i / n, t1 = 2 * M_PI * (i + 1) / n;
+    segs.points.push_back(Vec3(std::cos(t0), std::sin(t0), 0));
+    segs.points.push_back(Vec3(std::cos(t1), std::sin(t1), 0));
+  }
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 500; ++i) {
+    const Real t = 2 * M_PI * rnd(), r = 0.9 + 0.2 * rnd();
+    pts.emplace_back(r * std::cos(t), r * std::sin(t), 0);
+  }
+  // Nodes exactly on master vertices: ties between two segments.
+  for (int i = 0; i < 10; ++i) pts.push_back(segs.points[2 * i]);
+  expect_all_agree(segs, pts, 0.05, "circle of segments");
+}
+
+TEST(ContactSearch, PointFacetDistance) {
+  const Vec3 tri[3] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  EXPECT_NEAR(point_facet_distance(tri, 3, Vec3(0.2, 0.2, 0.5)), 0.5, 1e-15);        // above the face
+  EXPECT_NEAR(point_facet_distance(tri, 3, Vec3(-1, -1, 0)), std::sqrt(2.0), 1e-15);   // nearest a vertex
+  EXPECT_NEAR(point_facet_distance(tri, 3, Vec3(0.5, -2, 0)), 2.0, 1e-15);             // nearest an edge
+  EXPECT_NEAR(point_facet_distance(tri, 3, Vec3(1, 1, 0)), std::sqrt(0.5), 1e-15);     // beyond the hypotenuse
+  const Vec3 seg[2] = {Vec3(0, 0, 0), Vec3(2, 0, 0)};
+  EXPECT_NEAR(point_facet_distance(seg, 2, Vec3(1, 3, 0)), 3.0, 1e-15);
+  EXPECT_NEAR(point_facet_distance(seg, 2, Vec3(3, 0, 0)), 1.0, 1e-15);
+}
