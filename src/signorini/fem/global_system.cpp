@@ -5,9 +5,11 @@
 
 namespace signorini {
 
-void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
+void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
+                                 const std::vector<std::vector<Index>>& couplings, Index total_dofs) {
   const Index nn = dofs.num_nodes();
   const int ndpn = dofs.dofs_per_node();
+  const Index n = std::max(total_dofs, dofs.num_dofs());
   // Node adjacency through cells.
   std::vector<std::vector<Index>> adj(nn);
   for (auto* b : cells) {
@@ -18,27 +20,46 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
         for (int j = 0; j < npe; ++j) adj[c[i]].push_back(c[j]);
     }
   }
-  std::vector<int> outer(dofs.num_dofs() + 1, 0);
+  // Extra DOF-level couplings, by column.
+  std::vector<std::vector<int>> extra(couplings.empty() ? 0 : n);
+  for (const auto& group : couplings)
+    for (Index c : group)
+      if (c >= 0)
+        for (Index r : group)
+          if (r >= 0) extra[c].push_back(static_cast<int>(r));
+  std::vector<int> outer(n + 1, 0);
   std::vector<int> inner;
-  Index nnz = 0;
-  for (Index n = 0; n < nn; ++n) {
-    auto& a = adj[n];
+  inner.reserve(static_cast<size_t>(nn) * 27 * ndpn * ndpn);
+  std::vector<int> column;
+  auto emit = [&](Index col) {
+    if (!extra.empty() && !extra[col].empty()) {
+      column.insert(column.end(), extra[col].begin(), extra[col].end());
+      std::sort(column.begin(), column.end());
+      column.erase(std::unique(column.begin(), column.end()), column.end());
+    }
+    inner.insert(inner.end(), column.begin(), column.end());
+    outer[col + 1] = static_cast<int>(inner.size());
+  };
+  Index col = 0;
+  for (Index node = 0; node < nn; ++node) {
+    if (!dofs.has_dofs(node)) continue;
+    auto& a = adj[node];
     std::sort(a.begin(), a.end());
     a.erase(std::unique(a.begin(), a.end()), a.end());
-    if (dofs.has_dofs(n)) nnz += static_cast<Index>(a.size()) * ndpn * ndpn;
-  }
-  inner.reserve(nnz);
-  for (Index n = 0; n < nn; ++n) {
-    if (!dofs.has_dofs(n)) continue;
     for (int c = 0; c < ndpn; ++c) {
-      const Index col = dofs.dof(n, c);
-      for (Index m : adj[n])
-        for (int r = 0; r < ndpn; ++r) inner.push_back(static_cast<int>(dofs.dof(m, r)));
-      outer[col + 1] = static_cast<int>(inner.size());
+      col = dofs.dof(node, c);
+      column.clear();
+      for (Index m : a)
+        for (int r = 0; r < ndpn; ++r) column.push_back(static_cast<int>(dofs.dof(m, r)));
+      emit(col);
     }
-    std::vector<Index>().swap(adj[n]);
+    std::vector<Index>().swap(a);
   }
-  matrix_ = SparseMatrix(dofs.num_dofs(), dofs.num_dofs());
+  for (Index c = dofs.num_dofs(); c < n; ++c) {
+    column.clear();
+    emit(c);
+  }
+  matrix_ = SparseMatrix(n, n);
   matrix_.resizeNonZeros(static_cast<Index>(inner.size()));
   std::copy(outer.begin(), outer.end(), matrix_.outerIndexPtr());
   std::copy(inner.begin(), inner.end(), matrix_.innerIndexPtr());
@@ -59,6 +80,10 @@ void SparseSystem::add(const Index* dofs, int n, const MatX& k) {
       const Real v = k(i, j);
       if (v == 0) continue;
       const int* p = std::lower_bound(begin, end, static_cast<int>(dofs[i]));
+      if (p == end || *p != dofs[i]) {
+        missed_.store(true, std::memory_order_relaxed);  // outside the pattern: dropped, the caller rebuilds
+        continue;
+      }
       Real& target = values[p - inner];
 #pragma omp atomic
       target += v;

@@ -3,6 +3,7 @@
 // The sparse pattern is built once from the cells; assembly is thread safe.
 #pragma once
 #include <Eigen/SparseCore>
+#include <atomic>
 #include <vector>
 
 #include "signorini/core/types.hpp"
@@ -22,9 +23,18 @@ class GlobalMatrix {
 
 class SparseSystem final : public GlobalMatrix {
  public:
-  // Pattern: all DOF pairs that share a cell (full storage, both triangles).
-  void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells);
-  void zero() { matrix_.coeffs().setZero(); }
+  // Pattern: all DOF pairs that share a cell (full storage, both triangles), plus every pair
+  // within each of the `couplings` (contact constraints, multipliers). `total_dofs` may exceed
+  // dofs.num_dofs() (extra unknowns such as Lagrange multipliers, numbered after the nodes').
+  void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
+                     const std::vector<std::vector<Index>>& couplings = {}, Index total_dofs = -1);
+  // True if an add() since the last zero() hit an entry outside the pattern (it was dropped):
+  // the caller must rebuild the pattern with the couplings it now needs.
+  bool missed() const { return missed_.load(); }
+  void zero() {
+    matrix_.coeffs().setZero();
+    missed_ = false;
+  }
   void add(const Index* dofs, int n, const MatX& k) override;
   // Zeroes the rows and columns of constrained DOFs and puts `scale` on their diagonal.
   void apply_dirichlet(const std::vector<char>& constrained, Real scale);
@@ -37,6 +47,7 @@ class SparseSystem final : public GlobalMatrix {
 
  private:
   SparseMatrix matrix_;
+  std::atomic<bool> missed_{false};
 };
 
 }  // namespace signorini

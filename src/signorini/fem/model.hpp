@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "signorini/contact/contact_settings.hpp"
 #include "signorini/fem/analysis_settings.hpp"
 #include "signorini/fem/body.hpp"
 #include "signorini/mesh/mesh.hpp"
@@ -82,6 +83,7 @@ struct Model {
   Mesh mesh;
   std::vector<std::unique_ptr<Body>> bodies;
   std::vector<Step> steps;
+  std::vector<ContactPairSettings> contacts;
   NewtonSettings newton;
   std::string linear_solver = "auto";
   OutputSettings output;

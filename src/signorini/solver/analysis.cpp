@@ -85,16 +85,53 @@ std::vector<const ElementBlock*> all_cells(const Model& m) {
 Analysis::Analysis(Model& model)
     : model_(model),
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model)),
-      linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d) {
-  system_.build_pattern(dofs_, all_cells(model));
-  u_ = VecX::Zero(dofs_.num_dofs());
+      linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d),
+      cells_(all_cells(model)) {
+  Real stiffness = 0;
+  for (auto& b : model.bodies) stiffness = std::max(stiffness, b->material().stiffness_scale());
+  Index unknowns = dofs_.num_dofs();
+  for (const ContactPairSettings& cs : model.contacts)
+    for (int pass = 0; pass < cs.passes; ++pass) {
+      auto ci = std::make_unique<ContactInterface>(cs, model.mesh, model.settings, stiffness, pass == 1);
+      ci->set_multiplier_offset(unknowns);
+      unknowns += ci->num_multipliers();
+      symmetric_ = symmetric_ && ci->symmetric();
+      contacts_.push_back(std::move(ci));
+    }
+  u_ = VecX::Zero(unknowns);
   u_converged_ = u_;
   reactions_ = u_;
-  constrained_.assign(dofs_.num_dofs(), 0);
+  constrained_.assign(unknowns, 0);
   // Follower pressure makes the tangent unsymmetric.
   for (auto& s : model.steps)
     for (auto& l : s.loads)
       if (l.kind == LoadKind::pressure && model.settings.finite_strain) symmetric_ = false;
+  if (!contacts_.empty()) detect_contact(0);
+  rebuild_pattern();
+}
+
+std::vector<Vec3> Analysis::positions(const VecX& u) const {
+  std::vector<Vec3> x = model_.mesh.nodes;
+  const int dim = dofs_.dofs_per_node();
+  for (Index n = 0; n < dofs_.num_nodes(); ++n)
+    if (dofs_.has_dofs(n))
+      for (int d = 0; d < dim; ++d) x[n](d) += u(dofs_.dof(n, d));
+  return x;
+}
+
+void Analysis::detect_contact(Real max_step) {
+  if (contacts_.empty()) return;
+  const std::vector<Vec3> x = positions(u_);
+  for (auto& c : contacts_) c->detect(x, max_step);
+}
+
+void Analysis::rebuild_pattern() {
+  std::vector<std::vector<Index>> couplings;
+  for (auto& c : contacts_) c->couplings(dofs_, couplings);
+  if (!couplings_.empty() && couplings == couplings_ && system_.matrix().rows() == num_unknowns()) return;
+  couplings_ = std::move(couplings);
+  system_.build_pattern(dofs_, cells_, couplings_, num_unknowns());
+  linear_solver_.reset();  // a new pattern needs a new symbolic analysis
 }
 
 void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent) {
@@ -133,12 +170,34 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
 
 Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   log::Timer t;
-  VecX fint = VecX::Zero(dofs_.num_dofs()), fext = VecX::Zero(dofs_.num_dofs());
-  if (tangent) system_.zero();
-  for (auto& b : model_.bodies) b->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &system_ : nullptr);
-  add_loads(previous_loads_, 1 - lambda, fext, tangent);
-  add_loads(*current_loads_, lambda, fext, tangent);
-  residual = fext - fint;
+  const Index n = num_unknowns();
+  VecX fint = VecX::Zero(n), fext = VecX::Zero(n), fc = VecX::Zero(n);
+  for (int attempt = 0;; ++attempt) {
+    fint.setZero();
+    fext.setZero();
+    fc.setZero();
+    if (tangent) system_.zero();
+    for (auto& b : model_.bodies) b->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &system_ : nullptr);
+    add_loads(previous_loads_, 1 - lambda, fext, tangent);
+    add_loads(*current_loads_, lambda, fext, tangent);
+    if (!contacts_.empty()) {
+      const std::vector<Vec3> x = positions(u_);
+      for (auto& c : contacts_) {
+        if (c->update_each_iteration()) c->detect(x, 0);
+        c->assemble(x, u_, dofs_, fc, tangent ? &system_ : nullptr);
+      }
+    }
+    // A contact constraint outside the pattern (the search moved, or sliding went beyond
+    // the neighbourhood): rebuild the pattern with the current couplings and assemble again.
+    if (tangent && system_.missed() && attempt == 0) {
+      couplings_.clear();
+      rebuild_pattern();
+      continue;
+    }
+    if (tangent && system_.missed()) throw SolverError("contact coupling outside the sparse pattern");
+    break;
+  }
+  residual = fext - fint + fc;
   for (Index i = 0; i < residual.size(); ++i)
     if (constrained_[i]) {
       reactions_(i) = -residual(i);
@@ -148,7 +207,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     }
   if (tangent) system_.apply_dirichlet(constrained_, system_.mean_abs_diagonal());
   summary_.assembly_seconds += t.seconds();
-  return std::max(fint.norm(), fext.norm());
+  return std::max({fint.norm(), fext.norm(), fc.norm()});
 }
 
 void Analysis::begin_step(int s) {
@@ -171,7 +230,16 @@ void Analysis::begin_step(int s) {
     }
   }
   current_loads_ = &step.loads;
+  std::vector<char> in_contact(model_.mesh.num_nodes(), 0);
+  for (const auto& cs : model_.contacts)
+    for (const auto* set : {&cs.master, &cs.slave})
+      for (Index nd : model_.mesh.node_sets.at(*set)) in_contact[nd] = 1;
   for (auto& b : model_.bodies) {
+    // A body in contact may be held by its contact: the check does not apply (yet).
+    bool touches = false;
+    for (auto& blk : b->blocks())
+      for (Index nd : blk.conn) touches = touches || in_contact[nd];
+    if (touches) continue;
     const std::string motion = free_rigid_motion(*b, model_.mesh, dofs_, constrained_, model_.settings.dimension);
     if (!motion.empty())
       throw FatalModelError("step '" + step.name + "': body '" + b->name() + "' is free to " + motion +
@@ -187,6 +255,24 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
   for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
   for (auto& b : model_.bodies) b->revert();
+  if (!contacts_.empty()) {
+    // Detection at the start of the increment, on the predicted configuration; d_max grows
+    // with the largest nodal motion of the prediction.
+    Real step = 0;
+    const int dim = dofs_.dofs_per_node();
+    for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
+      if (dofs_.has_dofs(nd)) {
+        Real m2 = 0;
+        for (int d = 0; d < dim; ++d) {
+          const Real v = u_(dofs_.dof(nd, d)) - u_converged_(dofs_.dof(nd, d));
+          m2 += v * v;
+        }
+        step = std::max(step, std::sqrt(m2));
+      }
+    for (auto& c : contacts_) c->begin_increment();
+    detect_contact(step);
+    rebuild_pattern();
+  }
   VecX R, du, Rtrial;
   rec.residuals.clear();
   rec.energies.clear();
@@ -342,6 +428,7 @@ AnalysisSummary Analysis::run_steps() {
       last_dl_ = dl;
       u_converged_ = u_;
       for (auto& b : model_.bodies) b->commit();
+      for (auto& c : contacts_) rec.contact.push_back(c->commit());
       rec.fraction = lambda;
       rec.time = s + lambda;
       rec.cutbacks = cutbacks;

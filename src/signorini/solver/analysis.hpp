@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "signorini/contact/contact_interface.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
@@ -33,6 +34,7 @@ struct IncrementRecord {
   std::vector<Real> energies;   // |du . R| per iteration
   double seconds = 0;
   std::string linear_solver;
+  std::vector<ContactStats> contact;  // per contact interface
 };
 
 struct AnalysisSummary {
@@ -55,6 +57,11 @@ class Analysis {
 
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
+  // Unknowns: the displacement DOFs, then the contact multipliers.
+  Index num_unknowns() const { return static_cast<Index>(u_.size()); }
+  const std::vector<std::unique_ptr<ContactInterface>>& contacts() const { return contacts_; }
+  // Current positions X + u of every node.
+  std::vector<Vec3> positions(const VecX& u) const;
   const VecX& displacement() const { return u_; }
   // Reaction forces (fint - fext) at the DOFs constrained in the current step, 0 elsewhere.
   const VecX& reactions() const { return reactions_; }
@@ -76,6 +83,9 @@ class Analysis {
   Real evaluate(Real lambda, bool tangent, VecX& residual);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();
+  void detect_contact(Real max_step);
+  // Rebuilds the sparse pattern from the cells and the contact couplings.
+  void rebuild_pattern();
   void begin_step(int s);
   bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
 
@@ -93,6 +103,9 @@ class Analysis {
   const std::vector<Load>* current_loads_ = nullptr;
   std::vector<FacetLoad> facet_loads_cache_;
   int step_ = 0;
+  std::vector<std::unique_ptr<ContactInterface>> contacts_;
+  std::vector<const ElementBlock*> cells_;
+  std::vector<std::vector<Index>> couplings_;
   AnalysisSummary summary_;
   std::function<void(const Analysis&, const IncrementRecord&)> observer_;
 };

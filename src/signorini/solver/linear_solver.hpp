@@ -32,12 +32,18 @@ class AutoLinearSolver {
   static constexpr Index iterative_threshold = 200000;
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
-  std::string last_used() const { return solver_ ? solver_->name() : "none"; }
+  std::string last_used() const { return solver_ ? solver_->name() : last_name_; }
+  // Forget the factorization and its symbolic analysis (after a change of sparse pattern).
+  void reset() {
+    if (solver_) last_name_ = solver_->name();
+    solver_.reset();
+  }
 
  private:
   std::string choice_;
   bool three_d_;
   std::unique_ptr<LinearSolver> solver_;
+  std::string last_name_ = "none";
 };
 
 }  // namespace signorini

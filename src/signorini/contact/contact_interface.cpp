@@ -1,0 +1,169 @@
+#include "signorini/contact/contact_interface.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "signorini/contact/discretization/node_to_segment.hpp"
+#include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
+
+namespace signorini {
+
+ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mesh, const AnalysisSettings& as,
+                                   Real stiffness_scale, bool second_pass)
+    : s_(s), as_(as), dim_(as.spatial_dim()) {
+  if (second_pass) std::swap(s_.master, s_.slave);
+  label_ = s_.name + (second_pass ? " (pass 2)" : "");
+  master_ = make_master_surface(mesh, s_.master);
+  slave_ = make_slave_surface(mesh, s_.slave, as);
+  search_ = make_search(s_.search);
+  enforcement_ = make_enforcement(s_.method);
+  // Mean edge of the slave and master surfaces (reference configuration).
+  auto mean_edge = [&](const std::string& set) {
+    Real sum = 0;
+    Index count = 0;
+    for (const ElementBlock& b : mesh.facet_sets.at(set)) {
+      const int nc = element_info(b.type).num_corners;
+      for (Index e = 0; e < b.size(); ++e)
+        for (int k = 0; k < (nc == 2 ? 1 : nc); ++k) {
+          sum += (mesh.nodes[b.element(e)[(k + 1) % nc]] - mesh.nodes[b.element(e)[k]]).norm();
+          ++count;
+        }
+    }
+    return count ? sum / count : 1.0;
+  };
+  const Real h = mean_edge(s_.slave);
+  mean_master_edge_ = mean_edge(s_.master);
+  stiffness_ = s_.penalty > 0 ? s_.penalty : s_.penalty_factor * stiffness_scale / h;
+  const Index n = static_cast<Index>(slave_.nodes.size());
+  candidate_.assign(n, -1);
+  nts_normal_.assign(n, Vec3::Zero());
+  last_active_.assign(n, 0);
+  committed_active_.assign(n, 0);
+  flips_.assign(n, 0);
+  forced_.assign(n, 0);
+  facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
+  for (ElementType t : master_.type)
+    if (element_info(t).num_corners != facets_.corners)
+      throw Error("contact '" + s_.name + "': the master surface '" + s_.master +
+                  "' mixes triangles and quadrilaterals, which the search does not support yet");
+}
+
+void ContactInterface::detect(const std::vector<Vec3>& x, Real max_step) {
+  // Linearized master facets at the current positions.
+  const int nc = facets_.corners;
+  facets_.points.resize(master_.size() * nc);
+  for (Index f = 0; f < master_.size(); ++f)
+    for (int k = 0; k < nc; ++k) facets_.points[f * nc + k] = x[master_.facets[f][k]];
+  search_->build(facets_);
+  // Maximal detection distance: given, or twice the master facet size plus twice the motion
+  // expected before the next search.
+  const Real dmax = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_ + 2 * max_step;
+  std::vector<Vec3> pts(slave_.nodes.size());
+  for (size_t j = 0; j < pts.size(); ++j) pts[j] = x[slave_.nodes[j]];
+  std::vector<SearchHit> hits;
+  search_->closest(pts, dmax, hits);
+  for (size_t j = 0; j < pts.size(); ++j) {
+    Index f = hits[j].facet;
+    // A node in contact keeps being tracked even if it moved beyond d_max.
+    if (f < 0 && last_active_[j] && candidate_[j] >= 0 && s_.discretization == "node_to_segment") f = candidate_[j];
+    if (s_.discretization == "node_to_node") {
+      if (f < 0) {
+        if (!(last_active_[j] && candidate_[j] >= 0)) candidate_[j] = -1;
+        continue;
+      }
+      // The nearest corner of the closest facet, with its normal frozen for the increment.
+      Index best = -1;
+      Real bd = 1e300;
+      for (int k = 0; k < master_.corners(f); ++k) {
+        const Index m = master_.facets[f][k];
+        const Real d = (x[m] - pts[j]).norm();
+        if (d < bd) bd = d, best = m;
+      }
+      candidate_[j] = best;
+      nts_normal_[j] = master_.node_normal(best, x, dim_);
+    } else {
+      candidate_[j] = f;
+    }
+  }
+}
+
+void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Index>>& out) const {
+  for (size_t j = 0; j < candidate_.size(); ++j) {
+    std::vector<Index> g;
+    auto add_node = [&](Index n) {
+      for (int d = 0; d < dim_; ++d) g.push_back(dofs.dof(n, d));
+    };
+    add_node(slave_.nodes[j]);
+    if (candidate_[j] >= 0) {
+      if (s_.discretization == "node_to_node") add_node(candidate_[j]);
+      else {
+        std::set<Index> nodes;
+        for (Index f : master_.neighbourhood(candidate_[j]))
+          for (Index n : master_.facets[f]) nodes.insert(n);
+        for (Index n : nodes) add_node(n);
+      }
+    }
+    if (uses_multipliers()) g.push_back(offset_ + static_cast<Index>(j));
+    out.push_back(std::move(g));
+  }
+}
+
+void ContactInterface::begin_increment() {
+  std::fill(flips_.begin(), flips_.end(), 0);
+  std::fill(forced_.begin(), forced_.end(), 0);
+  last_active_ = committed_active_;
+  frozen_reported_ = 0;
+}
+
+void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
+                                GlobalMatrix* K) {
+  if (s_.discretization == "node_to_node") node_to_node(slave_, candidate_, nts_normal_, x, dim_, constraints_);
+  else node_to_segment(master_, slave_, x, dim_, candidate_, constraints_);
+  EnforcementInput in;
+  in.constraints = &constraints_;
+  in.dofs = &dofs;
+  in.dim = dim_;
+  in.stiffness = stiffness_;
+  in.multiplier_offset = offset_;
+  in.forced = &forced_;
+  enforcement_->assemble(in, z, residual, K, state_);
+  if (!K) return;
+  // Chattering guard: a node whose status keeps flipping within the increment is held closed.
+  std::vector<Index> newly_frozen;
+  for (size_t j = 0; j < state_.active.size(); ++j) {
+    if (state_.active[j] != last_active_[j]) ++flips_[j];
+    last_active_[j] = state_.active[j];
+    if (flips_[j] > s_.max_flips && !forced_[j]) {
+      forced_[j] = 1;
+      newly_frozen.push_back(slave_.nodes[j]);
+    }
+  }
+  if (!newly_frozen.empty()) {
+    std::string ids;
+    for (size_t k = 0; k < newly_frozen.size() && k < 20; ++k) ids += (k ? ", " : "") + std::to_string(newly_frozen[k]);
+    log::warning("contact '{}': {} slave node(s) changed status more than {} times in this increment and are held "
+                 "closed until it ends (node indices {}{})",
+                 label_, newly_frozen.size(), s_.max_flips, ids, newly_frozen.size() > 20 ? ", ..." : "");
+    frozen_reported_ += static_cast<Index>(newly_frozen.size());
+  }
+}
+
+ContactStats ContactInterface::commit() {
+  ContactStats st;
+  st.label = label_;
+  for (size_t j = 0; j < state_.active.size(); ++j) {
+    st.active += state_.active[j];
+    st.changes += state_.active[j] != committed_active_[j];
+    st.frozen += forced_[j] > 0;
+    const Constraint& c = constraints_[j];
+    if (c.kind != ConstraintKind::none) {
+      st.max_penetration = std::max(st.max_penetration, -c.gap);
+      st.force += state_.pressure[j] * c.weight * c.normal;  // on the slave side, along the master normal
+    }
+  }
+  committed_active_ = state_.active;
+  return st;
+}
+
+}  // namespace signorini

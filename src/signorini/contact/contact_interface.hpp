@@ -1,0 +1,80 @@
+// One contact pair at run time: search (global, at each increment or iteration), the
+// discretization's constraints, the enforcement and its state (multipliers, active set),
+// the chattering guard, and what the output needs. Two-pass node-to-segment is two
+// interfaces, the second with master and slave swapped.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "signorini/contact/constraint.hpp"
+#include "signorini/contact/contact_settings.hpp"
+#include "signorini/contact/enforcement/enforcement.hpp"
+#include "signorini/contact/search/search.hpp"
+#include "signorini/contact/surface.hpp"
+#include "signorini/fem/analysis_settings.hpp"
+
+namespace signorini {
+
+struct ContactStats {
+  std::string label;
+  Index active = 0;       // closed slave nodes
+  Index changes = 0;      // status changes against the previous increment
+  Index frozen = 0;       // nodes held closed by the chattering guard
+  Real max_penetration = 0;
+  Vec3 force = Vec3::Zero();  // total contact force on the slave side
+};
+
+class ContactInterface {
+ public:
+  // `stiffness_scale`: Young's modulus of the stiffer body, for the automatic penalty.
+  ContactInterface(const ContactPairSettings& s, const Mesh& mesh, const AnalysisSettings& as, Real stiffness_scale,
+                   bool second_pass);
+
+  const std::string& label() const { return label_; }
+  const ContactPairSettings& settings() const { return s_; }
+  bool uses_multipliers() const { return enforcement_->uses_multipliers(); }
+  bool symmetric() const { return enforcement_->symmetric(); }
+  Index num_multipliers() const { return uses_multipliers() ? static_cast<Index>(slave_.nodes.size()) : 0; }
+  void set_multiplier_offset(Index o) { offset_ = o; }
+  Index multiplier_offset() const { return offset_; }
+  Real stiffness() const { return stiffness_; }
+  bool update_each_iteration() const { return s_.update == "iteration"; }
+
+  // Global search at positions x; max_step bounds the motion expected before the next search.
+  void detect(const std::vector<Vec3>& x, Real max_step);
+  // DOF groups the constraints may couple (for the sparse pattern).
+  void couplings(const DofMap& dofs, std::vector<std::vector<Index>>& out) const;
+  void begin_increment();
+  // Builds the constraints at x and adds the contact forces (and tangent) to the system.
+  void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K);
+  // After a converged increment: statistics against the previous increment.
+  ContactStats commit();
+
+  const SlaveSurface& slave() const { return slave_; }
+  const ConstraintSet& constraints() const { return constraints_; }
+  const EnforcementOutput& state() const { return state_; }
+
+ private:
+  ContactPairSettings s_;
+  std::string label_;
+  AnalysisSettings as_;
+  int dim_;
+  MasterSurface master_;
+  SlaveSurface slave_;
+  std::unique_ptr<ContactSearch> search_;
+  std::unique_ptr<Enforcement> enforcement_;
+  SearchFacets facets_;
+  Real stiffness_ = 1, mean_master_edge_ = 0;
+  Index offset_ = -1;
+  std::vector<Index> candidate_;          // per slave node: master facet (NTS) or node (NTN)
+  std::vector<Vec3> nts_normal_;          // NTN: frozen normals
+  ConstraintSet constraints_;
+  EnforcementOutput state_;
+  std::vector<char> last_active_, committed_active_;
+  std::vector<int> flips_;
+  std::vector<signed char> forced_;
+  Index frozen_reported_ = 0;
+};
+
+}  // namespace signorini

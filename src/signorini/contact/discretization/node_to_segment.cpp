@@ -1,0 +1,89 @@
+#include "signorini/contact/discretization/node_to_segment.hpp"
+
+#include <limits>
+
+#include "signorini/contact/geometry/facet_projection.hpp"
+
+namespace signorini {
+
+void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
+                     const std::vector<Index>& candidate, ConstraintSet& out) {
+  const Index ns = static_cast<Index>(slave.nodes.size());
+  out.assign(ns, Constraint{});
+#pragma omp parallel for schedule(dynamic, 32)
+  for (Index j = 0; j < ns; ++j) {
+    Constraint& c = out[j];
+    c.slave = slave.nodes[j];
+    c.weight = slave.weights[j];
+    if (candidate[j] < 0 || !(c.weight > 0)) continue;
+    const Vec3& p = x[c.slave];
+    const std::vector<Index> around = master.neighbourhood(candidate[j]);
+    // The closest projection that falls inside its facet.
+    Index best = -1;
+    FacetProjection best_fp;
+    std::vector<Vec3> xf, best_x;
+    Real best_dist = std::numeric_limits<Real>::infinity();
+    for (Index f : around) {
+      xf.clear();
+      for (Index n : master.facets[f]) xf.push_back(x[n]);
+      FacetProjection fp = project_on_facet(master.type[f], xf, p, dim);
+      if (fp.inside && std::abs(fp.gap) < best_dist) {
+        best_dist = std::abs(fp.gap);
+        best = f;
+        best_fp = fp;
+        best_x = xf;
+      }
+    }
+    if (best >= 0) {
+      c.kind = ConstraintKind::segment;
+      c.facet = best;
+      c.gap = best_fp.gap;
+      c.normal = best_fp.normal;
+      c.nodes.assign(1, c.slave);
+      c.nodes.insert(c.nodes.end(), master.facets[best].begin(), master.facets[best].end());
+      gap_variations(master.type[best], best_x, best_fp, dim, c.grad, c.hess);
+      continue;
+    }
+    // Node-to-vertex: the nearest corner of the facets around the candidate.
+    Index vertex = -1;
+    Real vd = std::numeric_limits<Real>::infinity();
+    for (Index f : around)
+      for (int k = 0; k < master.corners(f); ++k) {
+        const Index n = master.facets[f][k];
+        const Real d = (x[n] - p).norm();
+        if (d < vd) vd = d, vertex = n;
+      }
+    if (vertex < 0) continue;
+    PointGap pg = point_gap(p, x[vertex], master.node_normal(vertex, x, dim), dim, &c.grad, &c.hess);
+    c.kind = ConstraintKind::vertex;
+    c.facet = vertex;
+    c.gap = pg.gap;
+    c.normal = pg.normal;
+    c.nodes = {c.slave, vertex};
+  }
+}
+
+void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_node, const std::vector<Vec3>& normal,
+                  const std::vector<Vec3>& x, int dim, ConstraintSet& out) {
+  const Index ns = static_cast<Index>(slave.nodes.size());
+  out.assign(ns, Constraint{});
+  for (Index j = 0; j < ns; ++j) {
+    Constraint& c = out[j];
+    c.slave = slave.nodes[j];
+    c.weight = slave.weights[j];
+    if (master_node[j] < 0 || !(c.weight > 0)) continue;
+    c.kind = ConstraintKind::node;
+    c.facet = master_node[j];
+    c.normal = normal[j];
+    c.gap = (x[c.slave] - x[master_node[j]]).dot(normal[j]);
+    c.nodes = {c.slave, master_node[j]};
+    c.grad.setZero(2 * dim);
+    for (int d = 0; d < dim; ++d) {
+      c.grad(d) = normal[j](d);
+      c.grad(dim + d) = -normal[j](d);
+    }
+    c.hess.setZero(2 * dim, 2 * dim);  // the normal is frozen during the increment
+  }
+}
+
+}  // namespace signorini

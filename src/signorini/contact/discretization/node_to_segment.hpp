@@ -1,0 +1,22 @@
+// Discretizations that turn contact geometry into constraints, one per slave node.
+// Node-to-segment: the slave node against the closest projection on the master facets
+// around its search candidate; where no projection falls inside a facet (convex corners,
+// blind spots), against the nearest master vertex (node-to-vertex). Node-to-node: against
+// a master node, along the master's averaged normal frozen at detection (matching meshes).
+#pragma once
+#include <vector>
+
+#include "signorini/contact/constraint.hpp"
+#include "signorini/contact/surface.hpp"
+
+namespace signorini {
+
+// candidate[j]: master facet found by the search for slave node j (-1: none).
+void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
+                     const std::vector<Index>& candidate, ConstraintSet& out);
+
+// master_node[j]: the master node paired with slave node j (-1: none); normal[j]: its normal.
+void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_node, const std::vector<Vec3>& normal,
+                  const std::vector<Vec3>& x, int dim, ConstraintSet& out);
+
+}  // namespace signorini

@@ -1,0 +1,130 @@
+#include "signorini/contact/enforcement/enforcement.hpp"
+
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+namespace {
+
+// DOFs of a constraint's nodes, node after node.
+void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vector<Index>& out) {
+  out.clear();
+  for (Index n : c.nodes)
+    for (int d = 0; d < dim; ++d) out.push_back(dofs.dof(n, d));
+}
+
+void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real scale) {
+  for (size_t k = 0; k < dofs.size(); ++k)
+    if (dofs[k] >= 0) {
+#pragma omp atomic
+      r(dofs[k]) += scale * v(k);
+    }
+}
+
+class Penalty final : public Enforcement {
+ public:
+  std::string name() const override { return "penalty"; }
+  bool uses_multipliers() const override { return false; }
+  bool symmetric() const override { return true; }
+  void assemble(const EnforcementInput& in, const VecX&, VecX& residual, GlobalMatrix* K,
+                EnforcementOutput& out) const override {
+    const ConstraintSet& cs = *in.constraints;
+    const Index n = static_cast<Index>(cs.size());
+    out.pressure.assign(n, 0.0);
+    out.active.assign(n, 0);
+    const Real eps = in.stiffness;
+#pragma omp parallel
+    {
+      std::vector<Index> dofs;
+      MatX k;
+#pragma omp for schedule(dynamic, 32)
+      for (Index j = 0; j < n; ++j) {
+        const Constraint& c = cs[j];
+        if (c.kind == ConstraintKind::none || c.gap >= 0) continue;
+        const Real p = -eps * c.gap;
+        out.pressure[j] = p;
+        out.active[j] = 1;
+        constraint_dofs(c, *in.dofs, in.dim, dofs);
+        add_vector(residual, dofs, c.grad, p * c.weight);
+        if (K) {
+          // -d(p w grad g)/du = eps w grad g grad g^T - p w hess g
+          k = eps * c.weight * c.grad * c.grad.transpose() - p * c.weight * c.hess;
+          K->add(dofs.data(), static_cast<int>(dofs.size()), k);
+        }
+      }
+    }
+  }
+};
+
+class LagrangeMultipliers final : public Enforcement {
+ public:
+  std::string name() const override { return "lagrange"; }
+  bool uses_multipliers() const override { return true; }
+  bool symmetric() const override { return false; }
+  void assemble(const EnforcementInput& in, const VecX& z, VecX& residual, GlobalMatrix* K,
+                EnforcementOutput& out) const override {
+    const ConstraintSet& cs = *in.constraints;
+    const Index n = static_cast<Index>(cs.size());
+    out.pressure.assign(n, 0.0);
+    out.active.assign(n, 0);
+    const Real c0 = in.stiffness;
+    // Scale of the rows of nodes without a constraint (keeps the system regular).
+    Real mean_w = 0;
+    for (auto& c : cs) mean_w += c.weight;
+    mean_w = n ? mean_w / n : 1.0;
+    if (!(mean_w > 0)) mean_w = 1.0;
+#pragma omp parallel
+    {
+      std::vector<Index> dofs;
+      MatX k;
+#pragma omp for schedule(dynamic, 32)
+      for (Index j = 0; j < n; ++j) {
+        const Constraint& c = cs[j];
+        const Index ldof = in.multiplier_offset + j;
+        const Real lambda = z(ldof);
+        out.pressure[j] = lambda;
+        if (c.kind == ConstraintKind::none || !(c.weight > 0)) {
+          // No master within reach: lambda = 0.
+          const Real s = c.weight > 0 ? c.weight : mean_w;
+#pragma omp atomic
+          residual(ldof) -= s * lambda;
+          if (K) {
+            MatX one = MatX::Constant(1, 1, s);
+            K->add(&ldof, 1, one);
+          }
+          continue;
+        }
+        const bool forced = in.forced && (*in.forced)[j] > 0;
+        const bool active = forced || lambda - c0 * c.gap > 0;
+        out.active[j] = active;
+        constraint_dofs(c, *in.dofs, in.dim, dofs);
+        const int m = static_cast<int>(dofs.size());
+        // Displacement rows: f_c = lambda w grad g.
+        add_vector(residual, dofs, c.grad, lambda * c.weight);
+        // Multiplier row: F = c w g (active) or w lambda (inactive); R = -F.
+        const Real f = active ? c0 * c.weight * c.gap : c.weight * lambda;
+#pragma omp atomic
+        residual(ldof) -= f;
+        if (K) {
+          k.setZero(m + 1, m + 1);
+          k.topLeftCorner(m, m) = -lambda * c.weight * c.hess;
+          k.block(0, m, m, 1) = -c.weight * c.grad;
+          if (active) k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
+          else k(m, m) = c.weight;
+          dofs.push_back(ldof);
+          K->add(dofs.data(), m + 1, k);
+        }
+      }
+    }
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Enforcement> make_enforcement(const std::string& method) {
+  if (method == "penalty") return std::make_unique<Penalty>();
+  if (method == "lagrange") return std::make_unique<LagrangeMultipliers>();
+  throw Error("unknown contact enforcement method '" + method + "' (lagrange, penalty)");
+}
+
+}  // namespace signorini

@@ -1,0 +1,44 @@
+// Enforcement of the frictionless contact constraints (Signorini conditions g >= 0, p >= 0,
+// p g = 0), reading only the ConstraintSet. Penalty: p = eps <-g>. Lagrange multipliers with a
+// semi-smooth Newton method: one multiplier (pressure) per slave node and the complementarity
+// function C = lambda - max(0, lambda - c g) = 0 (Alart & Curnier 1991; Hüeber & Wohlmuth 2005),
+// which makes the active set change inside Newton's iterations and gives exact
+// non-penetration. Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "signorini/contact/constraint.hpp"
+#include "signorini/fem/dof_map.hpp"
+#include "signorini/fem/global_system.hpp"
+
+namespace signorini {
+
+struct EnforcementInput {
+  const ConstraintSet* constraints = nullptr;
+  const DofMap* dofs = nullptr;
+  int dim = 2;
+  Real stiffness = 1;                       // penalty, or the complementarity constant c
+  Index multiplier_offset = -1;             // first multiplier unknown (Lagrange)
+  const std::vector<signed char>* forced = nullptr;  // 1: keep the node closed (chattering guard)
+};
+
+struct EnforcementOutput {
+  std::vector<Real> pressure;  // per constraint, positive in compression
+  std::vector<char> active;
+};
+
+class Enforcement {
+ public:
+  virtual ~Enforcement() = default;
+  virtual std::string name() const = 0;
+  virtual bool uses_multipliers() const = 0;
+  virtual bool symmetric() const = 0;
+  virtual void assemble(const EnforcementInput& in, const VecX& z, VecX& residual, GlobalMatrix* K,
+                        EnforcementOutput& out) const = 0;
+};
+
+std::unique_ptr<Enforcement> make_enforcement(const std::string& method);
+
+}  // namespace signorini

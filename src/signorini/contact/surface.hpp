@@ -1,0 +1,34 @@
+// Contact surfaces built from facet sets: the master side (facets, node-to-facet adjacency,
+// averaged nodal normals) and the slave side (its nodes with their tributary areas).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "signorini/fem/analysis_settings.hpp"
+#include "signorini/mesh/mesh.hpp"
+
+namespace signorini {
+
+struct MasterSurface {
+  std::vector<ElementType> type;              // per facet
+  std::vector<std::vector<Index>> facets;     // node indices per facet (outward order)
+  std::vector<std::vector<Index>> node_facets;  // facets of each mesh node (empty if not master)
+  std::vector<Index> nodes;                   // the master nodes
+  int corners(Index f) const { return element_info(type[f]).num_corners; }
+  Index size() const { return static_cast<Index>(facets.size()); }
+  // Facets sharing a node with facet f, f included.
+  std::vector<Index> neighbourhood(Index f) const;
+  // Average outward normal at a master node (current positions x).
+  Vec3 node_normal(Index node, const std::vector<Vec3>& x, int dim) const;
+};
+
+struct SlaveSurface {
+  std::vector<Index> nodes;     // slave nodes
+  std::vector<Real> weights;    // tributary area (reference configuration)
+};
+
+MasterSurface make_master_surface(const Mesh& mesh, const std::string& facet_set);
+// Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8).
+SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& facet_set, const AnalysisSettings& settings);
+
+}  // namespace signorini
