@@ -81,3 +81,57 @@ inline DirichletCondition fix(const std::string& set, int comp, Real value = 0) 
 }
 
 }  // namespace signorini::test
+
+#include "signorini/mesh/structured.hpp"
+
+namespace signorini::test {
+
+// Two blocks in one mesh: `lower` (regions/sets prefixed "lower_") on [0, w] x [0, h] and
+// `upper` ("upper_") shifted by `offset`. Non-matching when the cell counts differ.
+inline Mesh two_blocks(ElementType type, int nl, int nu, Real w, Real h, const Vec3& offset, bool three_d = false) {
+  Mesh a = three_d ? structured_box(type, nl, nl, 2, w, w, h) : structured_rectangle(type, nl, 2, w, h);
+  StructuredOptions o;
+  o.origin = offset;
+  Mesh b = three_d ? structured_box(type, nu, nu, 2, w, w, h, o) : structured_rectangle(type, nu, 2, w, h, o);
+  Mesh m;
+  m.dim = a.dim;
+  m.nodes = a.nodes;
+  m.nodes.insert(m.nodes.end(), b.nodes.begin(), b.nodes.end());
+  for (Index i = 0; i < m.num_nodes(); ++i) m.node_ids.push_back(i + 1);
+  const Index shift = a.num_nodes();
+  auto add = [&](const Mesh& src, const std::string& prefix, Index sh) {
+    for (auto& [name, blocks] : src.regions) {
+      auto copy = blocks;
+      for (auto& blk : copy)
+        for (auto& c : blk.conn) c += sh;
+      m.regions[prefix + name] = copy;
+    }
+    for (auto& [name, blocks] : src.facet_sets) {
+      auto copy = blocks;
+      for (auto& blk : copy)
+        for (auto& c : blk.conn) c += sh;
+      m.facet_sets[prefix + name] = copy;
+    }
+    for (auto& [name, nodes] : src.node_sets) {
+      auto copy = nodes;
+      for (auto& c : copy) c += sh;
+      m.node_sets[prefix + name] = copy;
+    }
+  };
+  add(a, "lower_", 0);
+  add(b, "upper_", shift);
+  return m;
+}
+
+}  // namespace signorini::test
+
+namespace signorini::test {
+// Current positions X + u for the displacement part of z.
+inline std::vector<Vec3> cells_of_positions(const Mesh& mesh, const DofMap& dofs, const VecX& z) {
+  std::vector<Vec3> x = mesh.nodes;
+  for (Index n = 0; n < mesh.num_nodes(); ++n)
+    if (dofs.has_dofs(n))
+      for (int d = 0; d < dofs.dofs_per_node(); ++d) x[n](d) += z(dofs.dof(n, d));
+  return x;
+}
+}  // namespace signorini::test
