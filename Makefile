@@ -3,7 +3,7 @@
 #   make test  installs what is missing, builds and runs the test suite (label `long` excluded)
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
-EXAMPLE ?= examples/lame_cylinder/lame_cylinder.yaml
+EXAMPLE ?= examples/hertz_cylinder/hertz_cylinder.yaml
 CMAKE_FLAGS ?=
 
 .PHONY: deps configure build run test test-long bench clean

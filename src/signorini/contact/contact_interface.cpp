@@ -149,6 +149,13 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   }
 }
 
+Index ContactInterface::frozen_in_tension() const {
+  Index n = 0;
+  for (size_t j = 0; j < forced_.size() && j < state_.pressure.size(); ++j)
+    if (forced_[j] && state_.pressure[j] < 0) ++n;
+  return n;
+}
+
 ContactStats ContactInterface::commit() {
   ContactStats st;
   st.label = label_;

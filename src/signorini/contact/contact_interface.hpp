@@ -48,6 +48,9 @@ class ContactInterface {
   void begin_increment();
   // Builds the constraints at x and adds the contact forces (and tangent) to the system.
   void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K);
+  // Nodes held closed by the chattering guard that end in tension: the increment is not a
+  // valid solution of the contact conditions then.
+  Index frozen_in_tension() const;
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();
 

@@ -66,8 +66,9 @@ struct OutputSettings {
 // A reference value to compare with after the run (deck `checks:`).
 struct Check {
   std::string name;
-  std::string kind;      // displacement (at the node nearest `point`) or reaction (set sum)
+  std::string kind;      // displacement, reaction, contact_pressure_max, contact_half_width, contact_force
   std::string set;
+  std::string pair;      // contact quantities
   Vec3 point = Vec3::Zero();
   int component = 0;
   Real expected = 0;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "signorini/contact/surface.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/mesh/gmsh_reader.hpp"
@@ -326,6 +327,133 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
   m.steps.push_back(std::move(step));
 }
 
+// Mean facet edge length of a facet set and the stiffness of the body that owns it.
+struct SurfaceInfo {
+  Real mean_edge = 0;
+  Real stiffness = 0;
+  std::string body;
+};
+SurfaceInfo surface_info(const Model& m, const std::string& set) {
+  // The median edge length: on graded meshes the mean is dominated by the coarse far field.
+  SurfaceInfo info;
+  std::vector<Real> edges;
+  Index any = -1;
+  for (const ElementBlock& b : m.mesh.facet_sets.at(set)) {
+    const int nc = element_info(b.type).num_corners;
+    for (Index e = 0; e < b.size(); ++e) {
+      any = b.element(e)[0];
+      for (int k = 0; k < (nc == 2 ? 1 : nc); ++k)
+        edges.push_back((m.mesh.nodes[b.element(e)[(k + 1) % nc]] - m.mesh.nodes[b.element(e)[k]]).norm());
+    }
+  }
+  if (!edges.empty()) {
+    std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
+    info.mean_edge = edges[edges.size() / 2];
+  }
+  for (auto& body : m.bodies)
+    for (auto& blk : body->blocks())
+      if (std::find(blk.conn.begin(), blk.conn.end(), any) != blk.conn.end()) {
+        info.stiffness = body->material().stiffness_scale();
+        info.body = body->name();
+      }
+  return info;
+}
+
+// "auto" (returns 0) or a positive number.
+Real auto_or_positive(const Node& n) {
+  if (n.node.IsScalar() && n.node.as<std::string>() == "auto") return 0;
+  const Real v = n.as_number();
+  if (!(v > 0)) n.fail("expected auto or a positive number");
+  return v;
+}
+
+void read_contacts(const Node& list, const Registry& r, Model& m) {
+  list.expect_list();
+  const TypeSpec& spec = deck_spec(r, "contact");
+  const TypeSpec& es = deck_spec(r, "enforcement");
+  const TypeSpec& ss = deck_spec(r, "search");
+  for (size_t i = 0; i < list.node.size(); ++i) {
+    Node c = list.at(i);
+    c.check_keys(spec);
+    ContactPairSettings cs;
+    cs.where = c.where();
+    cs.name = c.has("name") ? c.child("name").as_string() : "contact" + std::to_string(i + 1);
+    for (auto& other : m.contacts)
+      if (other.name == cs.name) c.child("name").fail("two contact pairs are named '" + cs.name + "'");
+    if (c.has("friction"))
+      c.child("friction").fail("friction is not available yet: contact is frictionless in this version (remove the "
+                               "'friction' entry)");
+    auto facet_set = [&](const Node& n) {
+      const std::string set = n.as_string();
+      if (!m.mesh.facet_sets.count(set))
+        n.fail("no facet set (physical group of " + std::to_string(m.mesh.dim - 1) + "D facets) named '" + set +
+               "' (facet sets: " + m.mesh.facet_set_names() + ")");
+      return set;
+    };
+    const bool automatic = c.has("master") && c.child("master").as_string() == "auto";
+    if (automatic) {
+      if (!c.has("surfaces") || c.has("slave"))
+        c.fail("with master: auto, name the two surfaces with 'surfaces: [A, B]' (and no 'slave')");
+      Node sf = c.child("surfaces");
+      sf.expect_list();
+      if (sf.node.size() != 2) sf.fail("expected two facet sets");
+      const std::string a = facet_set(sf.at(0)), b = facet_set(sf.at(1));
+      const SurfaceInfo ia = surface_info(m, a), ib = surface_info(m, b);
+      // The finer surface is slave; at about equal density the stiffer body is master.
+      bool a_slave = ia.mean_edge < 0.83 * ib.mean_edge ||
+                     (ia.mean_edge <= 1.2 * ib.mean_edge && ib.mean_edge <= 1.2 * ia.mean_edge && ia.stiffness <= ib.stiffness);
+      if (ib.mean_edge < 0.83 * ia.mean_edge) a_slave = false;
+      cs.slave = a_slave ? a : b;
+      cs.master = a_slave ? b : a;
+      log::info("contact '{}': master: auto chose slave '{}' and master '{}'", cs.name, cs.slave, cs.master);
+    } else {
+      if (!c.has("master") || !c.has("slave")) c.fail("a contact pair needs 'master' and 'slave' facet sets");
+      if (c.has("surfaces")) c.child("surfaces").fail("'surfaces' goes with master: auto");
+      cs.master = facet_set(c.child("master"));
+      cs.slave = facet_set(c.child("slave"));
+      if (cs.master == cs.slave) c.child("slave").fail("master and slave are the same facet set (self-contact is not "
+                                                       "available yet)");
+      const SurfaceInfo im = surface_info(m, cs.master), is = surface_info(m, cs.slave);
+      if (is.mean_edge > 1.2 * im.mean_edge)
+        log::warning("{}: contact '{}': the slave surface '{}' (median facet size {:.3g}) is coarser than the master "
+                     "'{}' ({:.3g}); master nodes may then penetrate the slave. Make the finer surface slave, use "
+                     "master: auto, or passes: 2.",
+                     cs.where, cs.name, cs.slave, is.mean_edge, cs.master, im.mean_edge);
+      else if (is.mean_edge >= 0.83 * im.mean_edge && is.stiffness > 1.5 * im.stiffness)
+        log::warning("{}: contact '{}': at about equal mesh density the less deformable body should be master, but the "
+                     "slave '{}' (E = {:g}) is stiffer than the master '{}' (E = {:g}).",
+                     cs.where, cs.name, cs.slave, is.stiffness, cs.master, im.stiffness);
+    }
+    cs.discretization = c.text(spec, "discretization");
+    cs.passes = static_cast<int>(c.number(spec, "passes"));
+    if (cs.passes == 2 && cs.discretization != "node_to_segment")
+      c.child("passes").fail("two passes apply to node_to_segment only");
+    if (c.has("enforcement")) {
+      Node e = c.child("enforcement");
+      e.check_keys(es);
+      cs.method = e.text(es, "method");
+      if (e.has("penalty")) cs.penalty = auto_or_positive(e.child("penalty"));
+      cs.penalty_factor = e.number(es, "penalty_factor");
+      cs.max_flips = static_cast<int>(e.number(es, "max_flips"));
+    }
+    if (c.has("search")) {
+      Node s = c.child("search");
+      s.check_keys(ss);
+      cs.search = s.text(ss, "method");
+      if (s.has("max_distance")) cs.max_distance = auto_or_positive(s.child("max_distance"));
+      cs.update = s.text(ss, "update");
+    }
+    // Slave facets must give every node a positive contact area (checked here, with the place).
+    try {
+      make_slave_surface(m.mesh, cs.slave, m.settings);
+      if (cs.passes == 2) make_slave_surface(m.mesh, cs.master, m.settings);
+    } catch (const Error& e) {
+      c.fail(e.what());
+    }
+    m.contacts.push_back(cs);
+  }
+}
+
 void read_solver(const Node& n, const Registry& r, Model& m) {
   const TypeSpec& spec = deck_spec(r, "solver");
   n.check_keys(spec);
@@ -352,20 +480,32 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
     ch.where = c.where();
     ch.name = c.text(spec, "name");
     ch.kind = c.text(spec, "quantity");
-    const std::string comp = c.text(spec, "component");
-    ch.component = comp == "x" ? 0 : comp == "y" ? 1 : 2;
-    if (ch.component >= m.settings.spatial_dim()) c.child("component").fail("no such component in 2D");
+    if (c.has("component")) {
+      const std::string comp = c.text(spec, "component");
+      ch.component = comp == "x" ? 0 : comp == "y" ? 1 : 2;
+      if (ch.component >= m.settings.spatial_dim()) c.child("component").fail("no such component in 2D");
+    } else if (ch.kind != "contact_pressure_max") {
+      c.fail("a " + ch.kind + " check needs 'component' (x, y or z)");
+    }
     ch.expected = c.number(spec, "expected");
     ch.tolerance = c.number(spec, "tolerance");
     ch.reference = c.text(spec, "reference");
-    if (ch.kind == "displacement") {
-      if (!c.has("at")) c.fail("a displacement check needs 'at: [x, y(, z)]'");
+    if (ch.kind == "displacement" || ch.kind == "contact_half_width") {
+      if (!c.has("at")) c.fail("a " + ch.kind + " check needs 'at: [x, y(, z)]'");
       ch.point = c.child("at").vector(m.settings.spatial_dim());
-    } else {
+    }
+    if (ch.kind == "reaction") {
       if (!c.has("set")) c.fail("a reaction check needs 'set'");
       ch.set = c.child("set").as_string();
       if (!m.mesh.node_sets.count(ch.set))
         c.child("set").fail("no node set named '" + ch.set + "' (sets: " + m.mesh.node_set_names() + ")");
+    }
+    if (ch.kind.rfind("contact_", 0) == 0) {
+      if (!c.has("pair")) c.fail("a " + ch.kind + " check needs 'pair: <contact pair name>'");
+      ch.pair = c.child("pair").as_string();
+      bool found = false;
+      for (auto& cp : m.contacts) found = found || cp.name == ch.pair;
+      if (!found) c.child("pair").fail("no contact pair named '" + ch.pair + "'");
     }
     m.checks.push_back(ch);
   }
@@ -406,6 +546,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
     m.output.directory = o.text(os, "directory");
     m.output.vtu = o.text(os, "vtu");
   }
+  if (top.has("contact")) read_contacts(top.child("contact"), registry, m);
   if (top.has("checks")) read_checks(top.child("checks"), registry, m);
   if (report) *report = rep;
   return m;

@@ -172,7 +172,8 @@ void register_deck_sections(Registry& r) {
           opt(text("solver", "Newton and linear solver settings (see 'describe solver')", std::nullopt, ParamKind::any)),
           opt(text("output", "output settings (see 'describe output')", std::nullopt, ParamKind::any)),
           opt(text("checks", "reference values to compare with after the run (see 'describe check')", std::nullopt,
-                   ParamKind::any))}});
+                   ParamKind::any)),
+          opt(text("contact", "list of contact pairs (see 'describe contact')", std::nullopt, ParamKind::any))}});
   r.add({"deck", "analysis", "Analysis type.",
          {choice("dimension", "type of analysis", {"plane_strain", "plane_stress", "axisymmetric", "3d"}, std::nullopt),
           choice("kinematics", "small strain, or finite strain (total Lagrangian)", {"small_strain", "finite_strain"},
@@ -213,6 +214,31 @@ void register_deck_sections(Registry& r) {
           opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
           opt(number("pressure", "pressure", std::nullopt)),
           opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector))}});
+  r.add({"deck", "contact", "A contact pair between two facet sets (one list entry each).",
+         {text("name", "pair name, used in messages and output", "contact<N>"),
+          opt(text("master", "master facet set, or auto (then give 'surfaces')", std::nullopt)),
+          opt(text("slave", "slave facet set", std::nullopt)),
+          opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave", std::nullopt, ParamKind::vector)),
+          choice("discretization", "node_to_segment (with node-to-vertex), or node_to_node (matching meshes)",
+                 {"node_to_segment", "node_to_node"}, "node_to_segment"),
+          number("passes", "2: each surface is also slave of the other (node_to_segment)", "1", 1, 2),
+          opt(text("enforcement", "{method, penalty} (see 'describe enforcement')", std::nullopt, ParamKind::any)),
+          opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),
+          opt(text("friction", "friction law (not available yet: frictionless only)", std::nullopt, ParamKind::any))}});
+  r.add({"deck", "enforcement", "How the contact constraints are enforced.",
+         {choice("method", "lagrange: multipliers, semi-smooth Newton, exact non-penetration; penalty: p = eps <-g>",
+                 {"lagrange", "penalty"}, "lagrange"),
+          text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
+                          "the complementarity constant of lagrange", "auto", ParamKind::any),
+          number("penalty_factor", "factor of the automatic penalty", "10", 0, INFINITY, true),
+          number("max_flips", "status changes of a node in one increment before it is held closed", "6", 1, 1000)}});
+  r.add({"deck", "search", "Contact detection.",
+         {choice("method", "global search: bucket_grid, bvh (AABB tree) or all_to_all (reference, slow)",
+                 {"bucket_grid", "bvh", "all_to_all"}, "bucket_grid"),
+          text("max_distance", "maximal detection distance, or auto = 2 x master facet size + 2 x largest nodal "
+                               "motion of the increment's prediction", "auto", ParamKind::any),
+          choice("update", "detection at the start of each increment, or at each Newton iteration",
+                 {"increment", "iteration"}, "increment")}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
          {choice("linear", "linear solver (see 'describe cholmod' etc.)", solvers, "auto"),
           number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
@@ -232,11 +258,17 @@ void register_deck_sections(Registry& r) {
   r.add({"deck", "check", "A reference value compared with the result after the run; a failed check makes the run "
                           "exit with code 3.",
          {text("name", "what is checked", std::nullopt),
-          choice("quantity", "nodal displacement (node nearest 'at') or reaction sum on a node set",
-                 {"displacement", "reaction"}, std::nullopt),
+          choice("quantity",
+                 "displacement (node nearest 'at'), reaction (sum over a node set), contact_pressure_max, "
+                 "contact_half_width (distance from 'at' along 'component' to the edge of the closed zone: midway "
+                 "between the outermost closed slave node and the next open one) or contact_force (total, on the "
+                 "slave side) of the contact pair 'pair'",
+                 {"displacement", "reaction", "contact_pressure_max", "contact_half_width", "contact_force"},
+                 std::nullopt),
+          opt(text("pair", "contact pair name (contact quantities)", std::nullopt)),
           opt(text("at", "point (displacement)", std::nullopt, ParamKind::vector)),
           opt(text("set", "node set (reaction)", std::nullopt)),
-          choice("component", "component", {"x", "y", "z"}, std::nullopt),
+          opt(choice("component", "component (not for contact_pressure_max)", {"x", "y", "z"}, std::nullopt)),
           number("expected", "reference value", std::nullopt),
           number("tolerance", "relative tolerance", "0.01", 0, INFINITY, true),
           text("reference", "where the expected value comes from", "\"\"")}});

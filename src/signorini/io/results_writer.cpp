@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <filesystem>
 #include <limits>
 
@@ -51,8 +52,33 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
         if (d < bd) bd = d, best = n;
       }
       r.computed = best >= 0 ? a.displacement()(a.dofs().dof(best, c.component)) : 0;
-    } else {
+    } else if (c.kind == "reaction") {
       r.computed = a.reaction_sum(c.set)(c.component);
+    } else {
+      const ContactInterface* ci = nullptr;
+      for (auto& x : a.contacts())
+        if (!ci && x->settings().name == c.pair) ci = x.get();
+      const auto& cs = ci->constraints();
+      const auto& st = ci->state();
+      const std::vector<Vec3> x = a.positions(a.displacement());
+      if (c.kind == "contact_pressure_max") {
+        for (size_t j = 0; j < cs.size(); ++j) r.computed = std::max(r.computed, st.pressure[j]);
+      } else if (c.kind == "contact_force") {
+        for (size_t j = 0; j < cs.size(); ++j)
+          if (cs[j].kind != ConstraintKind::none) r.computed += st.pressure[j] * cs[j].weight * cs[j].normal(c.component);
+      } else {
+        // Half-width: midway between the outermost closed node and the nearest open one beyond.
+        Real closed = 0, open = std::numeric_limits<Real>::infinity();
+        for (size_t j = 0; j < cs.size(); ++j) {
+          const Real d = std::abs(x[cs[j].slave](c.component) - c.point(c.component));
+          if (st.active[j]) closed = std::max(closed, d);
+        }
+        for (size_t j = 0; j < cs.size(); ++j) {
+          const Real d = std::abs(x[cs[j].slave](c.component) - c.point(c.component));
+          if (!st.active[j] && d > closed) open = std::min(open, d);
+        }
+        r.computed = std::isfinite(open) ? 0.5 * (closed + open) : closed;
+      }
     }
     r.error = c.expected != 0 ? std::abs(r.computed - c.expected) / std::abs(c.expected)
                               : std::abs(r.computed - c.expected);
@@ -68,7 +94,8 @@ ResultsWriter::ResultsWriter(const Model& model, std::string directory) : model_
   if (ec) throw Error("cannot create the output directory '" + dir_ + "': " + ec.message());
   // Old VTU files of a previous run would mix with this one's in ParaView.
   for (auto& e : std::filesystem::directory_iterator(dir_))
-    if (e.path().extension() == ".vtu" && e.path().filename().string().rfind("increment_", 0) == 0)
+    if ((e.path().extension() == ".vtu" && e.path().filename().string().rfind("increment_", 0) == 0) ||
+        (e.path().extension() == ".csv" && e.path().filename().string().rfind("contact_", 0) == 0))
       std::filesystem::remove(e.path(), ec);
   csv_ = "step,increment,time,fraction,set,fx,fy,fz\n";
 }
@@ -89,6 +116,28 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
       reac.values[3 * n + i] = a.reactions()(k);
     }
   d.point_fields = {disp, reac};
+  if (!a.contacts().empty()) {
+    // Contact state on the slave nodes (status: -1 not a slave node, 0 no master within
+    // reach, 1 open, 2 closed); pressure positive in compression.
+    VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
+    VtuField pres{"contact_pressure", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
+    VtuField status{"contact_status", 1, std::vector<Real>(m.mesh.num_nodes(), -1.0), {}};
+    for (auto& c : a.contacts()) {
+      const auto& cs = c->constraints();
+      const auto& st = c->state();
+      for (size_t j = 0; j < cs.size(); ++j) {
+        const Index n = cs[j].slave;
+        if (n < 0) continue;
+        const bool has = cs[j].kind != ConstraintKind::none;
+        gap.values[n] = has ? cs[j].gap : 0.0;
+        pres.values[n] = j < st.pressure.size() ? st.pressure[j] : 0.0;
+        status.values[n] = !has ? 0.0 : (j < st.active.size() && st.active[j] ? 2.0 : 1.0);
+      }
+    }
+    d.point_fields.push_back(gap);
+    d.point_fields.push_back(pres);
+    d.point_fields.push_back(status);
+  }
   // ParaView's symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ (ours: 11 22 33 23 13 12).
   const int order[6] = {0, 1, 2, 5, 3, 4};
   const std::vector<std::string> names{"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
@@ -126,13 +175,38 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
     csv_ += fmt::format("{},{},{:.10g},{:.10g},{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment, rec.time,
                         rec.fraction, set, r(0), r(1), r(2));
   }
+  for (const auto& st : rec.contact)
+    csv_ += fmt::format("{},{},{:.10g},{:.10g},contact:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
+                        rec.time, rec.fraction, st.label, st.force(0), st.force(1), st.force(2));
   write_file_atomically(dir_ + "/reactions.csv", csv_);
+  write_contact_csv(a, rec);
   const bool step_end = rec.fraction >= 1.0;
   if (model_.output.vtu == "every_increment" || (model_.output.vtu == "last" && step_end))
     write_vtu(a, rec.time, rec.step, rec.increment);
   last_record_ = rec;
   have_last_ = true;
   write_json(a, a.summary(), "running", {});
+}
+
+void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& rec) {
+  const std::vector<Vec3> x = a.positions(a.displacement());
+  for (auto& c : a.contacts()) {
+    std::string name;
+    for (char ch : c->label()) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+    while (!name.empty() && name.back() == '_') name.pop_back();
+    std::string text = "node,x,y,z,gap,pressure,status\n";
+    const auto& cs = c->constraints();
+    const auto& st = c->state();
+    for (size_t j = 0; j < cs.size(); ++j) {
+      const Index n = cs[j].slave;
+      if (n < 0) continue;
+      const bool has = cs[j].kind != ConstraintKind::none;
+      const char* status = !has ? "far" : (st.active[j] ? "closed" : "open");
+      text += fmt::format("{},{:.10e},{:.10e},{:.10e},{},{:.10e},{}\n", model_.mesh.node_ids[n], x[n](0), x[n](1),
+                          x[n](2), has ? fmt::format("{:.10e}", cs[j].gap) : std::string("nan"), st.pressure[j], status);
+    }
+    write_file_atomically(fmt::format("{}/contact_{}_{:02d}_{:04d}.csv", dir_, name, rec.step + 1, rec.increment), text);
+  }
 }
 
 void ResultsWriter::finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks) {
@@ -165,7 +239,19 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                      i ? "," : "", r.step + 1, r.increment, json_number(r.time), r.iterations, r.cutbacks,
                      json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
-    j += "]}";
+    j += "]";
+    if (!r.contact.empty()) {
+      j += ", \"contact\": [";
+      for (size_t k = 0; k < r.contact.size(); ++k) {
+        const auto& c = r.contact[k];
+        j += fmt::format("{}{{\"pair\": \"{}\", \"active\": {}, \"changes\": {}, \"frozen\": {}, "
+                         "\"max_penetration\": {}, \"force\": [{}, {}, {}]}}",
+                         k ? ", " : "", json_escape(c.label), c.active, c.changes, c.frozen, json_number(c.max_penetration),
+                         json_number(c.force(0)), json_number(c.force(1)), json_number(c.force(2)));
+      }
+      j += "]";
+    }
+    j += "}";
   }
   j += "\n  ],\n  \"checks\": [";
   for (size_t i = 0; i < checks.size(); ++i) {

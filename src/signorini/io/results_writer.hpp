@@ -32,6 +32,7 @@ class ResultsWriter {
 
  private:
   void write_vtu(const Analysis& a, Real time, int step, int inc);
+  void write_contact_csv(const Analysis& a, const IncrementRecord& rec);
   void write_json(const Analysis& a, const AnalysisSummary& s, const std::string& status,
                   const std::vector<CheckResult>& checks);
   const Model& model_;

@@ -2,8 +2,13 @@
 
 #include <gmsh.h>
 #include <omp.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -54,6 +59,8 @@ struct GmshSession {
     for (auto& s : a) argv.push_back(s.data());
     gmsh::initialize(static_cast<int>(argv.size()), argv.data(), false);
     gmsh::option::setNumber("General.Terminal", log::level() <= log::Level::debug ? 1 : 0);
+    // Gmsh 4.8's parallel surface meshing crashes with some algorithms and size fields.
+    gmsh::option::setNumber("General.NumThreads", 1);
   }
   ~GmshSession() {
     gmsh::finalize();
@@ -68,6 +75,63 @@ std::string last_gmsh_error() {
   } catch (...) {
   }
   return e;
+}
+
+extern "C" char** environ;
+
+// Path of the gmsh executable on PATH, or "".
+std::string find_gmsh_executable() {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "");
+  std::string dir;
+  while (std::getline(ss, dir, ':')) {
+    const std::string candidate = (dir.empty() ? "." : dir) + "/gmsh";
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return "";
+}
+
+// Meshes a .geo file in a separate gmsh process, so that a crash of Gmsh's mesher (Gmsh 4.8
+// has some) is reported as an error instead of ending this program. Returns the .msh path.
+std::string mesh_in_child(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
+                          int order, const std::string& where) {
+  namespace fs = std::filesystem;
+  static int counter = 0;
+  const fs::path dir = fs::temp_directory_path();
+  const std::string stem = "signorini_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  const std::string msh = (dir / (stem + ".msh")).string(), logf = (dir / (stem + ".log")).string();
+  std::vector<std::string> a{exe, geo, "-3", "-format", "msh41", "-o", msh, "-v", "3", "-nt", "1"};
+  a.insert(a.end(), args.begin(), args.end());
+  if (order > 0) a.insert(a.end(), {"-order", std::to_string(order)});
+  std::vector<char*> argv;
+  for (auto& x : a) argv.push_back(x.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, logf.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  pid_t pid;
+  const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw InputError(where, "mesh.file", "cannot run " + exe + ": " + std::strerror(rc));
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  std::ifstream lg(logf);
+  std::string line, errors;
+  while (std::getline(lg, line))
+    if (line.find("Error") != std::string::npos) errors += (errors.empty() ? "" : "; ") + line;
+  fs::remove(logf);
+  if (WIFSIGNALED(status))
+    throw InputError(where, "mesh.file",
+                     "Gmsh crashed (signal " + std::to_string(WTERMSIG(status)) + ") while meshing '" + geo +
+                         "'. This is a Gmsh bug; another Mesh.Algorithm in the .geo usually avoids it" +
+                         (errors.empty() ? "" : " (" + errors + ")"));
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !errors.empty() || !fs::exists(msh)) {
+    fs::remove(msh);
+    throw InputError(where, "mesh.file", "Gmsh could not mesh '" + geo + "': " + (errors.empty() ? "no mesh written" : errors));
+  }
+  return msh;
 }
 
 }  // namespace
@@ -99,15 +163,28 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
     }
   }
 
+  // A .geo is meshed by the gmsh program when it is installed (a crash of its mesher then
+  // cannot take this process down), else in this process through the API.
+  std::string to_read = path, generated;
+  const std::string exe = ext == ".geo" ? find_gmsh_executable() : "";
+  if (!exe.empty()) {
+    generated = mesh_in_child(exe, path, args, options.order, where);
+    to_read = generated;
+    args.clear();
+  }
+  struct Cleanup {
+    std::string file;
+    ~Cleanup() {
+      if (!file.empty()) std::filesystem::remove(file);
+    }
+  } cleanup{generated};
   std::lock_guard<std::mutex> lock(g_gmsh_mutex);
   GmshSession session(args);
   Mesh mesh;
   try {
-    gmsh::open(path);
-    if (ext == ".geo") {
-      gmsh::model::mesh::generate(gmsh::model::getDimension());
-    }
-    if (options.order > 0) gmsh::model::mesh::setOrder(options.order);
+    gmsh::open(to_read);
+    if (ext == ".geo" && generated.empty()) gmsh::model::mesh::generate(gmsh::model::getDimension());
+    if (options.order > 0 && generated.empty()) gmsh::model::mesh::setOrder(options.order);
     std::vector<std::size_t> tags;
     std::vector<double> coords, param;
     gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);

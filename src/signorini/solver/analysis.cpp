@@ -249,7 +249,10 @@ void Analysis::begin_step(int s) {
 }
 
 bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
-  const NewtonSettings& ns = model_.newton;
+  NewtonSettings ns = model_.newton;
+  // The residual norm is no merit function for the semi-smooth Newton method of contact
+  // multipliers: a line search on it stalls the active-set updates, so steps are full.
+  for (auto& c : contacts_) ns.line_search = ns.line_search && !c->uses_multipliers();
   u_ = u_converged_;
   // Predictor: the free DOFs continue along the last increment of this step, scaled.
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
@@ -347,8 +350,14 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       }
       const bool energy_ok = it > 1 && energy <= ns.energy_tolerance * energy0;
       if (converged_residual(rnorm, scale) ||
-          (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance)))
+          (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
+        for (auto& c : contacts_)
+          if (const Index n = c->frozen_in_tension()) {
+            why = fmt::format("contact '{}': {} node(s) held closed by the chattering guard end in tension", c->label(), n);
+            return false;
+          }
         return true;
+      }
       if (it > 3 && rel > 1e8 * rec.residuals.front()) {
         why = "residual diverges";
         return false;
@@ -436,9 +445,12 @@ AnalysisSummary Analysis::run_steps() {
       cutbacks = 0;
       summary_.total_iterations += rec.iterations;
       summary_.increments.push_back(rec);
-      log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]",
+      std::string contact;
+      for (auto& c : rec.contact)
+        contact += fmt::format("  [{}: {} closed, {} changed]", c.label, c.active, c.changes);
+      log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]{}",
                 s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
-                log::elapsed());
+                log::elapsed(), contact);
       if (rec.iterations <= model_.newton.easy_iterations)
         dl = std::min(dl * model_.newton.growth_factor, step.max_increment);
       if (observer_) observer_(*this, rec);

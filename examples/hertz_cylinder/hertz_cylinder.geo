@@ -1,0 +1,44 @@
+// Hertz contact of a cylinder on a block, plane strain, half model (x >= 0), in mm.
+// Block [0, W] x [-H, 0]; quarter of the cylinder of radius R centred at (0, R), touching the
+// block at the origin. Elements of size hc within `zone` of the contact point, growing to hf.
+DefineConstant[ R = 10, W = 10, H = 10, hc = 0.005, hf = 1.0, zone = 0.2 ];
+Point(1) = {0, -H, 0, hf};
+Point(2) = {W, -H, 0, hf};
+Point(3) = {W, 0, 0, hf};
+Point(4) = {0, 0, 0, hc};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Point(5) = {0, 0, 0, hc};
+Point(6) = {0, R, 0, hf};
+Point(7) = {R, R, 0, hf};
+Circle(5) = {5, 6, 7};
+Line(6) = {7, 6};
+Line(7) = {6, 5};
+Curve Loop(2) = {5, 6, 7};
+Plane Surface(2) = {2};
+Field[1] = Distance;
+Field[1].PointsList = {4, 5};
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = hc;
+Field[2].SizeMax = hf;
+Field[2].DistMin = zone;
+Field[2].DistMax = 40 * zone;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm = 6;
+Mesh.RecombineAll = 1;
+Physical Surface("Block") = {1};
+Physical Surface("Cylinder") = {2};
+Physical Curve("BlockBottom") = {1};
+Physical Curve("BlockTop") = {3};
+Physical Curve("BlockAxis") = {4};
+Physical Curve("CylinderSurface") = {5};
+Physical Curve("CylinderTop") = {6};
+Physical Curve("CylinderAxis") = {7};
