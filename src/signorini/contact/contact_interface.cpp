@@ -16,6 +16,23 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
   master_ = make_master_surface(mesh, s_.master);
   slave_ = make_slave_surface(mesh, s_.slave, as);
+  if (second_pass) {
+    // A node that coincides with a node of the other surface carries the same constraint in
+    // both passes: keep it once (twice makes the multiplier system singular).
+    Real h = 0;
+    for (Index f = 0; f < master_.size(); ++f)
+      h = std::max(h, (mesh.nodes[master_.facets[f][0]] - mesh.nodes[master_.facets[f][1]]).norm());
+    SlaveSurface kept;
+    for (size_t j = 0; j < slave_.nodes.size(); ++j) {
+      bool duplicate = false;
+      for (Index m : master_.nodes)
+        duplicate = duplicate || (mesh.nodes[m] - mesh.nodes[slave_.nodes[j]]).norm() <= 1e-8 * h;
+      if (duplicate) continue;
+      kept.nodes.push_back(slave_.nodes[j]);
+      kept.weights.push_back(slave_.weights[j]);
+    }
+    slave_ = std::move(kept);
+  }
   search_ = make_search(s_.search);
   enforcement_ = make_enforcement(s_.method);
   // Mean edge of the slave and master surfaces (reference configuration).

@@ -54,7 +54,13 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
         if (d < vd) vd = d, vertex = n;
       }
     if (vertex < 0) continue;
-    PointGap pg = point_gap(p, x[vertex], master.node_normal(vertex, x, dim), dim, &c.grad, &c.hess);
+    const Vec3 nref = master.node_normal(vertex, x, dim);
+    // Only a node facing the vertex (within 60 degrees of its averaged normal, either side:
+    // a convex corner or a blind spot) is constrained; one beside the end of the master
+    // surface is not in contact with it, and its gap sign would be meaningless.
+    const Vec3 d = p - x[vertex];
+    if (d.norm() > 1e-12 * (1 + p.norm()) && std::abs(d.dot(nref)) < 0.5 * d.norm()) continue;
+    PointGap pg = point_gap(p, x[vertex], nref, dim, &c.grad, &c.hess);
     c.kind = ConstraintKind::vertex;
     c.facet = vertex;
     c.gap = pg.gap;

@@ -40,7 +40,9 @@ class Penalty final : public Enforcement {
 #pragma omp for schedule(dynamic, 32)
       for (Index j = 0; j < n; ++j) {
         const Constraint& c = cs[j];
-        if (c.kind == ConstraintKind::none || c.gap >= 0) continue;
+        // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
+        // can then start from touching.
+        if (c.kind == ConstraintKind::none || c.gap > 0) continue;
         const Real p = -eps * c.gap;
         out.pressure[j] = p;
         out.active[j] = 1;
