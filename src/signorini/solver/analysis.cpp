@@ -305,9 +305,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
                                 "lacks supports (a rigid-body motion is free) in some direction");
         throw;
       }
+      // (displacements only: a first multiplier estimate may be large, a pressure.)
+      const Real du_max = du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff();
       if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) &&
-                              du.cwiseAbs().maxCoeff() > 1e8 * (1 + u_.cwiseAbs().maxCoeff()) &&
-                              du.cwiseAbs().maxCoeff() > 1e6))
+                              du_max > 1e8 * (1 + u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff()) && du_max > 1e6))
         throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
                               "probably lacks supports (a rigid-body motion is free) in some direction");
       summary_.solve_seconds += ts.seconds();

@@ -1,0 +1,53 @@
+// Runs a shipped Hertz example deck with another contact element size, and returns the
+// deck's checks (p0, a, force) with the Newton residual history. Shared by the verification
+// test and the long refinement study.
+#pragma once
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "signorini/core/log.hpp"
+#include "signorini/io/deck.hpp"
+#include "signorini/io/results_writer.hpp"
+
+namespace signorini::test {
+
+struct HertzRun {
+  std::vector<CheckResult> checks;
+  AnalysisSummary summary;
+};
+
+// `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
+inline HertzRun run_hertz(const std::string& example, Real hc) {
+  namespace fs = std::filesystem;
+  log::set_level(log::Level::warning);
+  const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
+  std::ifstream in(src);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string deck = ss.str();
+  const size_t p = deck.find("hc: ");
+  const size_t e = deck.find_first_of(",}", p);
+  deck.replace(p, e - p, "hc: " + std::to_string(hc));
+  // The temporary deck lives elsewhere: make the mesh path absolute.
+  const size_t f = deck.find("file: ") + 6;
+  deck.insert(f, (src.parent_path() / "").string());
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + example + ".yaml");
+  std::ofstream(tmp) << deck;
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  Analysis a(m);
+  HertzRun out;
+  out.summary = a.run();
+  out.checks = evaluate_checks(a);
+  return out;
+}
+
+// Convergence order from the last three residuals above round-off.
+inline Real newton_order(const std::vector<Real>& res) {
+  for (size_t k = res.size() - 2; res.size() >= 3 && k >= 1; --k)
+    if (res[k + 1] > 1e-13 && res[k] < 1e-2) return std::log(res[k + 1] / res[k]) / std::log(res[k] / res[k - 1]);
+  return 0;
+}
+
+}  // namespace signorini::test
