@@ -8,6 +8,9 @@
 
 #include "hertz_runner.hpp"
 
+#include <filesystem>
+#include <fstream>
+
 using namespace signorini;
 
 namespace {
@@ -29,3 +32,44 @@ void expect_hertz(const std::string& example, Real hc, Real p0_tol, Real a_tol) 
 
 TEST(Hertz, CylinderPlaneStrain) { expect_hertz("hertz_cylinder", 0.005, 0.02, 0.03); }
 TEST(Hertz, SphereAxisymmetric) { expect_hertz("hertz_sphere_axisymmetric", 0.005, 0.02, 0.03); }
+
+TEST(Hertz, RigidCylinderPushedIntoABlock) {
+  // A rigid roller (R = 10 mm) pushed 3 um into a steel block by a prescribed displacement,
+  // plane strain, half model. Hertz (Johnson 1985, ch. 4) with E* = E/(1-nu^2) and the
+  // measured force P gives a = sqrt(4PR/(pi E*)) and p0 = 2P/(pi a).
+  namespace fs = std::filesystem;
+  const fs::path geo = fs::path(SIGNORINI_SOURCE_DIR) / "examples/hertz_cylinder/hertz_cylinder.geo";
+  const std::string deck = "analysis: {dimension: plane_strain}\n"
+                           "mesh: {file: " + geo.string() + ", parameters: {hc: 0.004, zone: 0.15}}\n"
+                           "materials: {steel: {model: linear_elastic, E: 210000, nu: 0.3}}\n"
+                           "bodies: [{name: block, region: Block, material: steel}]\n"
+                           "contact:\n"
+                           "  - {name: roller, master: {rigid: cylinder, center: [0, 10], radius: 10}, slave: BlockTop}\n"
+                           "steps:\n"
+                           "  - name: push\n"
+                           "    boundary:\n"
+                           "      - {set: BlockBottom, uy: 0}\n"
+                           "      - {set: BlockAxis, ux: 0}\n"
+                           "      - {contact: roller, u: [0, -0.003]}\n"
+                           "checks:\n"
+                           "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1}\n"
+                           "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 1}\n"
+                           "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: 1}\n";
+  const fs::path tmp = fs::temp_directory_path() / "signorini_rigid_roller.yaml";
+  std::ofstream(tmp) << deck;
+  log::set_level(log::Level::warning);
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  Analysis an(m);
+  AnalysisSummary sum = an.run();
+  ASSERT_TRUE(sum.completed) << sum.failure;
+  auto checks = evaluate_checks(an);
+  const Real P = 2 * std::abs(checks[2].computed);  // the whole roller
+  const Real Es = 210000 / (1 - 0.09), R = 10;
+  const Real a = std::sqrt(4 * P * R / (M_PI * Es)), p0 = 2 * P / (M_PI * a);
+  std::printf("rigid roller: P = %.4f N/mm, p0 %.2f (Hertz %.2f), a %.5f (Hertz %.5f)\n", P, checks[0].computed, p0,
+              checks[1].computed, a);
+  EXPECT_GT(P, 1);
+  EXPECT_NEAR(checks[0].computed, p0, 0.02 * p0);
+  EXPECT_NEAR(checks[1].computed, a, 0.04 * a);
+}

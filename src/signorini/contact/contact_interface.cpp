@@ -4,6 +4,7 @@
 #include <set>
 
 #include "signorini/contact/discretization/node_to_segment.hpp"
+#include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 
@@ -14,7 +15,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     : s_(s), as_(as), dim_(as.spatial_dim()) {
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
-  master_ = make_master_surface(mesh, s_.master);
+  if (!s_.rigid) master_ = make_master_surface(mesh, s_.master);
   slave_ = make_slave_surface(mesh, s_.slave, as);
   if (second_pass) {
     // A node that coincides with a node of the other surface carries the same constraint in
@@ -50,7 +51,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     return count ? sum / count : 1.0;
   };
   const Real h = mean_edge(s_.slave);
-  mean_master_edge_ = mean_edge(s_.master);
+  mean_master_edge_ = s_.rigid ? h : mean_edge(s_.master);
   stiffness_ = s_.penalty > 0 ? s_.penalty : s_.penalty_factor * stiffness_scale / h;
   const Index n = static_cast<Index>(slave_.nodes.size());
   candidate_.assign(n, -1);
@@ -60,6 +61,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   flips_.assign(n, 0);
   forced_.assign(n, 0);
   facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
+  dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_;
   for (ElementType t : master_.type)
     if (element_info(t).num_corners != facets_.corners)
       throw Error("contact '" + s_.name + "': the master surface '" + s_.master +
@@ -67,6 +69,8 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
 }
 
 void ContactInterface::detect(const std::vector<Vec3>& x, Real max_step) {
+  dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_ + 2 * max_step;
+  if (s_.rigid) return;  // an analytic obstacle needs no search
   // Linearized master facets at the current positions.
   const int nc = facets_.corners;
   facets_.points.resize(master_.size() * nc);
@@ -112,7 +116,7 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
       for (int d = 0; d < dim_; ++d) g.push_back(dofs.dof(n, d));
     };
     add_node(slave_.nodes[j]);
-    if (candidate_[j] >= 0) {
+    if (!s_.rigid && candidate_[j] >= 0) {
       if (s_.discretization == "node_to_node") add_node(candidate_[j]);
       else {
         std::set<Index> nodes;
@@ -135,8 +139,12 @@ void ContactInterface::begin_increment() {
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
                                 GlobalMatrix* K) {
-  if (s_.discretization == "node_to_node") node_to_node(slave_, candidate_, nts_normal_, x, dim_, constraints_);
-  else node_to_segment(master_, slave_, x, dim_, candidate_, constraints_);
+  if (s_.rigid)
+    rigid_obstacle_constraints(s_.obstacle, offset_rigid_, slave_, x, dim_, std::max(dmax_, 1e-300), constraints_);
+  else if (s_.discretization == "node_to_node")
+    node_to_node(slave_, candidate_, nts_normal_, x, dim_, constraints_);
+  else
+    node_to_segment(master_, slave_, x, dim_, candidate_, constraints_);
   EnforcementInput in;
   in.constraints = &constraints_;
   in.dofs = &dofs;

@@ -40,6 +40,10 @@ class ContactInterface {
   Index multiplier_offset() const { return offset_; }
   Real stiffness() const { return stiffness_; }
   bool update_each_iteration() const { return s_.update == "iteration"; }
+  bool rigid() const { return s_.rigid; }
+  // Displacement of a rigid obstacle from its deck position.
+  void set_obstacle_offset(const Vec3& o) { offset_rigid_ = o; }
+  const Vec3& obstacle_offset() const { return offset_rigid_; }
 
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
@@ -78,6 +82,8 @@ class ContactInterface {
   std::vector<int> flips_;
   std::vector<signed char> forced_;
   Index frozen_reported_ = 0;
+  Vec3 offset_rigid_ = Vec3::Zero();
+  Real dmax_ = 0;
 };
 
 }  // namespace signorini

@@ -7,9 +7,21 @@
 
 namespace signorini {
 
+// A rigid analytic master surface: the body stays outside it (or inside, for a hole).
+struct RigidObstacle {
+  std::string shape;             // plane, cylinder (a circle in 2D), sphere
+  Vec3 point = Vec3::Zero();     // plane: a point; cylinder, sphere: the centre
+  Vec3 normal = Vec3::UnitY();   // plane: unit normal pointing out of the obstacle
+  Vec3 axis = Vec3::UnitZ();     // cylinder in 3D: unit axis
+  Real radius = 0;
+  bool inside = false;           // the body is inside the cylinder or sphere (a hole)
+};
+
 struct ContactPairSettings {
   std::string name;
-  std::string master;                             // facet set
+  std::string master;                             // facet set (empty for a rigid obstacle)
+  bool rigid = false;
+  RigidObstacle obstacle;
   std::string slave;                              // facet set
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node
   int passes = 1;                                 // 2: each surface is also slave of the other

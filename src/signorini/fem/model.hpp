@@ -36,6 +36,13 @@ struct Load {
   std::string where;
 };
 
+// A prescribed displacement of a rigid obstacle, ramped over the step like a Dirichlet value.
+struct ObstacleMotion {
+  std::string pair;
+  std::optional<Vec3> start;
+  Vec3 end = Vec3::Zero();
+};
+
 struct Step {
   std::string name;
   Real initial_increment = 1.0;  // fractions of the step
@@ -43,6 +50,7 @@ struct Step {
   Real max_increment = 1.0;
   int max_increments = 10000;
   std::vector<DirichletCondition> dirichlet;
+  std::vector<ObstacleMotion> obstacles;
   std::vector<Load> loads;
 };
 

@@ -252,6 +252,19 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
     for (size_t i = 0; i < bl.node.size(); ++i) {
       Node b = bl.at(i);
       b.check_keys(bs);
+      if (b.has("contact")) {
+        if (b.has("set")) b.fail("a boundary entry has either 'set' or 'contact'");
+        ObstacleMotion om;
+        om.pair = b.child("contact").as_string();
+        bool found = false;
+        for (auto& cp : m.contacts) found = found || (cp.name == om.pair && cp.rigid);
+        if (!found) b.child("contact").fail("no contact pair with a rigid obstacle named '" + om.pair + "'");
+        if (!b.has("u")) b.fail("a rigid obstacle moves by 'u: [...]'");
+        om.end = b.child("u").vector(dim);
+        step.obstacles.push_back(om);
+        continue;
+      }
+      if (!b.has("set")) b.fail("a boundary entry needs 'set' (or 'contact' for a rigid obstacle)");
       const std::string set = b.text(bs, "set");
       if (!m.mesh.node_sets.count(set))
         b.child("set").fail("no node set named '" + set + "' in the mesh (sets: " + m.mesh.node_set_names() + ")");
@@ -390,8 +403,42 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
                "' (facet sets: " + m.mesh.facet_set_names() + ")");
       return set;
     };
-    const bool automatic = c.has("master") && c.child("master").as_string() == "auto";
-    if (automatic) {
+    const bool rigid = c.has("master") && c.child("master").node.IsMap();
+    const bool automatic = !rigid && c.has("master") && c.child("master").as_string() == "auto";
+    if (rigid) {
+      Node rm = c.child("master");
+      const TypeSpec& rs = deck_spec(r, "rigid");
+      rm.check_keys(rs);
+      const int dim = m.settings.spatial_dim();
+      RigidObstacle& ob = cs.obstacle;
+      ob.shape = rm.text(rs, "rigid");
+      ob.inside = rm.has("inside") && rm.child("inside").as_bool();
+      if (ob.shape == "plane") {
+        if (!rm.has("point") || !rm.has("normal")) rm.fail("a rigid plane needs 'point' and 'normal'");
+        ob.point = rm.child("point").vector(dim);
+        ob.normal = rm.child("normal").vector(dim);
+        if (!(ob.normal.norm() > 0)) rm.child("normal").fail("the normal must not be zero");
+        ob.normal.normalize();
+        if (ob.inside) rm.child("inside").fail("inside applies to a cylinder or a sphere");
+      } else {
+        if (!rm.has("center") || !rm.has("radius")) rm.fail("a rigid " + ob.shape + " needs 'center' and 'radius'");
+        ob.point = rm.child("center").vector(dim);
+        ob.radius = rm.number(rs, "radius");
+        if (ob.shape == "cylinder" && dim == 3) {
+          if (!rm.has("axis")) rm.fail("a rigid cylinder in 3D needs 'axis'");
+          ob.axis = rm.child("axis").vector(3);
+          if (!(ob.axis.norm() > 0)) rm.child("axis").fail("the axis must not be zero");
+          ob.axis.normalize();
+        }
+        if (ob.shape == "sphere" && dim == 2 && m.settings.dimension != Dimension::axisymmetric)
+          rm.child("rigid").fail("a sphere needs an axisymmetric or 3D analysis (use a cylinder in plane problems)");
+      }
+      cs.rigid = true;
+      if (!c.has("slave")) c.fail("a contact pair needs a 'slave' facet set");
+      cs.slave = facet_set(c.child("slave"));
+      if (c.has("passes")) c.child("passes").fail("a rigid obstacle has one pass");
+      if (c.has("discretization")) c.child("discretization").fail("a rigid obstacle is node-to-surface by nature");
+    } else if (automatic) {
       if (!c.has("surfaces") || c.has("slave"))
         c.fail("with master: auto, name the two surfaces with 'surfaces: [A, B]' (and no 'slave')");
       Node sf = c.child("surfaces");
@@ -537,6 +584,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   Node steps = top.child("steps");
   steps.expect_list();
   if (steps.node.size() == 0) steps.fail("at least one step is needed");
+  if (top.has("contact")) read_contacts(top.child("contact"), registry, m);
   for (size_t i = 0; i < steps.node.size(); ++i) read_step(steps.at(i), i, registry, m);
   if (top.has("solver")) read_solver(top.child("solver"), registry, m);
   if (top.has("output")) {
@@ -546,7 +594,6 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
     m.output.directory = o.text(os, "directory");
     m.output.vtu = o.text(os, "vtu");
   }
-  if (top.has("contact")) read_contacts(top.child("contact"), registry, m);
   if (top.has("checks")) read_checks(top.child("checks"), registry, m);
   if (report) *report = rep;
   return m;

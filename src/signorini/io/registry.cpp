@@ -201,7 +201,9 @@ void register_deck_sections(Registry& r) {
   r.add({"deck", "boundary", "Prescribed displacement on a node set: {set, u: [..]} or {set, ux|uy|uz: value}. A "
                              "value is a number (reached at the end of the step, ramped from the value at its start) or "
                              "{ramp: [start, end]}.",
-         {text("set", "node set (physical group)", std::nullopt), opt(text("u", "all components", std::nullopt, ParamKind::vector)),
+         {opt(text("set", "node set (physical group)", std::nullopt)),
+          opt(text("contact", "instead of set: a contact pair whose rigid obstacle moves by u", std::nullopt)),
+          opt(text("u", "all components", std::nullopt, ParamKind::vector)),
           opt(text("ux", "x (or r) component", std::nullopt, ParamKind::any)),
           opt(text("uy", "y (or z) component", std::nullopt, ParamKind::any)),
           opt(text("uz", "z component (3D)", std::nullopt, ParamKind::any))}});
@@ -216,7 +218,8 @@ void register_deck_sections(Registry& r) {
           opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector))}});
   r.add({"deck", "contact", "A contact pair between two facet sets (one list entry each).",
          {text("name", "pair name, used in messages and output", "contact<N>"),
-          opt(text("master", "master facet set, or auto (then give 'surfaces')", std::nullopt)),
+          opt(text("master", "master facet set, auto (then give 'surfaces'), or a rigid obstacle {rigid: ...} (see "
+                             "'describe rigid')", std::nullopt, ParamKind::any)),
           opt(text("slave", "slave facet set", std::nullopt)),
           opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave", std::nullopt, ParamKind::vector)),
           choice("discretization", "node_to_segment (with node-to-vertex), or node_to_node (matching meshes)",
@@ -225,6 +228,16 @@ void register_deck_sections(Registry& r) {
           opt(text("enforcement", "{method, penalty} (see 'describe enforcement')", std::nullopt, ParamKind::any)),
           opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),
           opt(text("friction", "friction law (not available yet: frictionless only)", std::nullopt, ParamKind::any))}});
+  r.add({"deck", "rigid", "A rigid analytic master surface; the body stays outside it (inside with inside: true). "
+                          "It moves with {contact: <pair>, u: [...]} entries in a step's boundary list.",
+         {choice("rigid", "shape (a cylinder is a circle in 2D)", {"plane", "cylinder", "sphere"}, std::nullopt),
+          opt(text("point", "plane: a point of the plane", std::nullopt, ParamKind::vector)),
+          opt(text("normal", "plane: its normal, pointing out of the obstacle towards the body", std::nullopt,
+                   ParamKind::vector)),
+          opt(text("center", "cylinder, sphere: the centre", std::nullopt, ParamKind::vector)),
+          opt(number("radius", "cylinder, sphere: the radius", std::nullopt, 0, INFINITY, true)),
+          opt(text("axis", "cylinder in 3D: its axis", std::nullopt, ParamKind::vector)),
+          text("inside", "the body is inside the cylinder or sphere (a hole)", "false", ParamKind::boolean)}});
   r.add({"deck", "enforcement", "How the contact constraints are enforced.",
          {choice("method", "lagrange: multipliers, semi-smooth Newton, exact non-penetration; penalty: p = eps <-g>",
                  {"lagrange", "penalty"}, "lagrange"),

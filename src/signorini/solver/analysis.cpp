@@ -230,10 +230,16 @@ void Analysis::begin_step(int s) {
     }
   }
   current_loads_ = &step.loads;
+  obstacle_ramps_.clear();
+  for (const auto& om : step.obstacles)
+    for (auto& c : contacts_)
+      if (c->settings().name == om.pair)
+        obstacle_ramps_.push_back({c.get(), om.start ? *om.start : c->obstacle_offset(), om.end});
   std::vector<char> in_contact(model_.mesh.num_nodes(), 0);
   for (const auto& cs : model_.contacts)
     for (const auto* set : {&cs.master, &cs.slave})
-      for (Index nd : model_.mesh.node_sets.at(*set)) in_contact[nd] = 1;
+      if (!set->empty())
+        for (Index nd : model_.mesh.node_sets.at(*set)) in_contact[nd] = 1;
   for (auto& b : model_.bodies) {
     // A body in contact may be held by its contact: the check does not apply (yet).
     bool touches = false;
@@ -258,6 +264,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
   for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
   for (auto& b : model_.bodies) b->revert();
+  for (auto& r : obstacle_ramps_) r.contact->set_obstacle_offset(r.start + lambda * (r.end - r.start));
   if (!contacts_.empty()) {
     // Detection at the start of the increment, on the predicted configuration; d_max grows
     // with the largest nodal motion of the prediction.

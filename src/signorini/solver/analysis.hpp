@@ -106,6 +106,11 @@ class Analysis {
   std::vector<std::unique_ptr<ContactInterface>> contacts_;
   std::vector<const ElementBlock*> cells_;
   std::vector<std::vector<Index>> couplings_;
+  struct ObstacleRamp {
+    ContactInterface* contact;
+    Vec3 start, end;
+  };
+  std::vector<ObstacleRamp> obstacle_ramps_;
   AnalysisSummary summary_;
   std::function<void(const Analysis&, const IncrementRecord&)> observer_;
 };

@@ -1,0 +1,49 @@
+#include "signorini/contact/discretization/rigid_obstacle.hpp"
+
+namespace signorini {
+
+void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, const SlaveSurface& slave,
+                                const std::vector<Vec3>& x, int dim, Real max_distance, ConstraintSet& out) {
+  const Index ns = static_cast<Index>(slave.nodes.size());
+  out.assign(ns, Constraint{});
+  for (Index j = 0; j < ns; ++j) {
+    Constraint& c = out[j];
+    c.slave = slave.nodes[j];
+    c.weight = slave.weights[j];
+    if (!(c.weight > 0)) continue;
+    const Vec3 p = x[c.slave];
+    Mat3 H = Mat3::Zero();
+    if (ob.shape == "plane") {
+      c.normal = ob.normal;
+      c.gap = (p - (ob.point + offset)).dot(ob.normal);
+    } else {
+      Vec3 d = p - (ob.point + offset);
+      Mat3 P = Mat3::Identity();  // projector on the plane normal to the axis (cylinder in 3D)
+      if (ob.shape == "cylinder" && dim == 3) {
+        P -= ob.axis * ob.axis.transpose();
+        d = P * d;
+      }
+      if (dim == 2) d(2) = 0;
+      const Real r = d.norm();
+      if (!(r > 0)) continue;  // at the centre: the normal is undefined
+      const Vec3 m = d / r;
+      const Real s = ob.inside ? -1.0 : 1.0;
+      c.normal = s * m;
+      c.gap = s * (r - ob.radius);
+      // d2(s |P d|)/dx2 = s (P - m m) / r
+      H = s * (P - m * m.transpose()) / r;
+    }
+    if (c.gap > max_distance) continue;  // far: no constraint
+    c.kind = ConstraintKind::node;
+    c.facet = -1;
+    c.nodes = {c.slave};
+    c.grad.resize(dim);
+    c.hess.resize(dim, dim);
+    for (int a = 0; a < dim; ++a) {
+      c.grad(a) = c.normal(a);
+      for (int b = 0; b < dim; ++b) c.hess(a, b) = H(a, b);
+    }
+  }
+}
+
+}  // namespace signorini
