@@ -18,7 +18,8 @@ struct HertzRun {
 };
 
 // `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
-inline HertzRun run_hertz(const std::string& example, Real hc) {
+// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}".
+inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "") {
   namespace fs = std::filesystem;
   log::set_level(log::Level::warning);
   const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
@@ -29,6 +30,10 @@ inline HertzRun run_hertz(const std::string& example, Real hc) {
   const size_t p = deck.find("hc: ");
   const size_t e = deck.find_first_of(",}", p);
   deck.replace(p, e - p, "hc: " + std::to_string(hc));
+  if (!enforcement.empty()) {
+    const size_t q = deck.find("enforcement: {method: lagrange}");
+    if (q != std::string::npos) deck.replace(q, std::string("enforcement: {method: lagrange}").size(), enforcement);
+  }
   // The temporary deck lives elsewhere: make the mesh path absolute.
   const size_t f = deck.find("file: ") + 6;
   deck.insert(f, (src.parent_path() / "").string());

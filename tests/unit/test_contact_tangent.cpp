@@ -70,6 +70,12 @@ TEST_P(ContactTangent, MatchesCentralDifferences) {
     ci.assemble(test::cells_of_positions(mesh, dofs, zz), zz, dofs, r, K);
     return r;
   };
+  if (pc.method == "augmented_lagrangian") {
+    // Non-zero multipliers lambda-bar: one Uzawa update from this state.
+    residual(z, nullptr);
+    Real pen = 0;
+    ASSERT_FALSE(ci.uzawa_update(pen));
+  }
   DenseMatrix K(nz);
   residual(z, &K);
   Index active = 0, open = 0;
@@ -105,5 +111,7 @@ INSTANTIATE_TEST_SUITE_P(
                       PairCase{"node_to_node", "lagrange", false, ElementType::quad4},
                       PairCase{"node_to_segment", "penalty", true, ElementType::hex8},
                       PairCase{"node_to_segment", "lagrange", true, ElementType::hex8},
-                      PairCase{"node_to_node", "lagrange", true, ElementType::hex8}),
+                      PairCase{"node_to_node", "lagrange", true, ElementType::hex8},
+                      PairCase{"node_to_segment", "augmented_lagrangian", false, ElementType::quad4},
+                      PairCase{"node_to_segment", "augmented_lagrangian", true, ElementType::hex8}),
     name_of);

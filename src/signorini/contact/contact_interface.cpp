@@ -52,14 +52,43 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   };
   const Real h = mean_edge(s_.slave);
   mean_master_edge_ = s_.rigid ? h : mean_edge(s_.master);
-  stiffness_ = s_.penalty > 0 ? s_.penalty : s_.penalty_factor * stiffness_scale / h;
+  (void)h;
   const Index n = static_cast<Index>(slave_.nodes.size());
+  // Local facet size of each slave node (mean length of the edges of its facets): the
+  // automatic penalty and gap tolerance follow the mesh where the node is, so graded meshes
+  // get a stiff penalty where they are fine.
+  {
+    std::vector<Real> sum(mesh.num_nodes(), 0.0);
+    std::vector<int> count(mesh.num_nodes(), 0);
+    for (const ElementBlock& b : mesh.facet_sets.at(s_.slave)) {
+      const int nc = element_info(b.type).num_corners;
+      for (Index e = 0; e < b.size(); ++e) {
+        Real len = 0;
+        for (int k = 0; k < (nc == 2 ? 1 : nc); ++k)
+          len += (mesh.nodes[b.element(e)[(k + 1) % nc]] - mesh.nodes[b.element(e)[k]]).norm();
+        len /= (nc == 2 ? 1 : nc);
+        for (int k = 0; k < b.nodes_per_element(); ++k) {
+          sum[b.element(e)[k]] += len;
+          ++count[b.element(e)[k]];
+        }
+      }
+    }
+    node_size_.resize(n);
+    stiffness_.resize(n);
+    for (Index j = 0; j < n; ++j) {
+      const Index node = slave_.nodes[j];
+      node_size_[j] = count[node] ? sum[node] / count[node] : h;
+      stiffness_[j] = s_.penalty > 0 ? s_.penalty : s_.penalty_factor * stiffness_scale / node_size_[j];
+    }
+  }
   candidate_.assign(n, -1);
   nts_normal_.assign(n, Vec3::Zero());
   last_active_.assign(n, 0);
   committed_active_.assign(n, 0);
   flips_.assign(n, 0);
   forced_.assign(n, 0);
+  shift_.assign(n, 0.0);
+  shift_committed_.assign(n, 0.0);
   facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
   dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_;
   for (ElementType t : master_.type)
@@ -135,6 +164,7 @@ void ContactInterface::begin_increment() {
   std::fill(forced_.begin(), forced_.end(), 0);
   last_active_ = committed_active_;
   frozen_reported_ = 0;
+  shift_ = shift_committed_;
 }
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
@@ -149,9 +179,10 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   in.constraints = &constraints_;
   in.dofs = &dofs;
   in.dim = dim_;
-  in.stiffness = stiffness_;
+  in.stiffness = &stiffness_;
   in.multiplier_offset = offset_;
   in.forced = &forced_;
+  if (augmented()) in.shift = &shift_;
   enforcement_->assemble(in, z, residual, K, state_);
   if (!K) return;
   // Chattering guard: a node whose status keeps flipping within the increment is held closed.
@@ -172,6 +203,31 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
                  label_, newly_frozen.size(), s_.max_flips, ids, newly_frozen.size() > 20 ? ", ..." : "");
     frozen_reported_ += static_cast<Index>(newly_frozen.size());
   }
+}
+
+Real ContactInterface::gap_tolerance() const {
+  if (s_.gap_tolerance > 0) return s_.gap_tolerance;
+  Real t = 1e300;
+  for (Real h : node_size_) t = std::min(t, 1e-3 * h);
+  return t;
+}
+
+bool ContactInterface::uzawa_update(Real& max_penetration) {
+  // Each node against its own tolerance: given, or 1e-3 of its local facet size.
+  max_penetration = 0;
+  bool ok = true;
+  for (size_t j = 0; j < constraints_.size(); ++j)
+    if (constraints_[j].kind != ConstraintKind::none && state_.active[j]) {
+      const Real pen = -constraints_[j].gap;
+      max_penetration = std::max(max_penetration, pen);
+      ok = ok && pen <= (s_.gap_tolerance > 0 ? s_.gap_tolerance : 1e-3 * node_size_[j]);
+    }
+  if (ok) return true;
+  for (size_t j = 0; j < constraints_.size(); ++j)
+    shift_[j] = constraints_[j].kind == ConstraintKind::none
+                    ? 0.0
+                    : std::max(0.0, shift_[j] - stiffness_[j] * constraints_[j].gap);
+  return false;
 }
 
 Index ContactInterface::frozen_in_tension() const {
@@ -195,6 +251,7 @@ ContactStats ContactInterface::commit() {
     }
   }
   committed_active_ = state_.active;
+  shift_committed_ = shift_;
   return st;
 }
 

@@ -38,7 +38,8 @@ class ContactInterface {
   Index num_multipliers() const { return uses_multipliers() ? static_cast<Index>(slave_.nodes.size()) : 0; }
   void set_multiplier_offset(Index o) { offset_ = o; }
   Index multiplier_offset() const { return offset_; }
-  Real stiffness() const { return stiffness_; }
+  // Penalty (or complementarity constant) of each slave node.
+  const std::vector<Real>& stiffness() const { return stiffness_; }
   bool update_each_iteration() const { return s_.update == "iteration"; }
   bool rigid() const { return s_.rigid; }
   // Displacement of a rigid obstacle from its deck position.
@@ -52,6 +53,12 @@ class ContactInterface {
   void begin_increment();
   // Builds the constraints at x and adds the contact forces (and tangent) to the system.
   void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K);
+  bool augmented() const { return s_.method == "augmented_lagrangian"; }
+  // Largest accepted penetration of the augmented Lagrangian (the smallest over the nodes).
+  Real gap_tolerance() const;
+  // Augmented Lagrangian, after Newton converged: true if the penetration is within the
+  // tolerance; else the multipliers are updated (Uzawa) and false returned.
+  bool uzawa_update(Real& max_penetration);
   // Nodes held closed by the chattering guard that end in tension: the increment is not a
   // valid solution of the contact conditions then.
   Index frozen_in_tension() const;
@@ -72,7 +79,8 @@ class ContactInterface {
   std::unique_ptr<ContactSearch> search_;
   std::unique_ptr<Enforcement> enforcement_;
   SearchFacets facets_;
-  Real stiffness_ = 1, mean_master_edge_ = 0;
+  std::vector<Real> stiffness_, node_size_;  // per slave node: penalty, local facet size
+  Real mean_master_edge_ = 0;
   Index offset_ = -1;
   std::vector<Index> candidate_;          // per slave node: master facet (NTS) or node (NTN)
   std::vector<Vec3> nts_normal_;          // NTN: frozen normals
@@ -83,6 +91,7 @@ class ContactInterface {
   std::vector<signed char> forced_;
   Index frozen_reported_ = 0;
   Vec3 offset_rigid_ = Vec3::Zero();
+  std::vector<Real> shift_, shift_committed_;  // augmented Lagrangian multipliers
   Real dmax_ = 0;
 };
 

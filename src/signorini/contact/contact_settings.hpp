@@ -25,13 +25,15 @@ struct ContactPairSettings {
   std::string slave;                              // facet set
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node
   int passes = 1;                                 // 2: each surface is also slave of the other
-  std::string method = "lagrange";                // lagrange (semi-smooth Newton), penalty
+  std::string method = "lagrange";                // lagrange (semi-smooth Newton), augmented_lagrangian, penalty
   Real penalty = 0;                               // 0: automatic, penalty_factor * E / h
   Real penalty_factor = 10;
   std::string search = "bucket_grid";             // bucket_grid, bvh, all_to_all
   Real max_distance = 0;                          // 0: automatic
   std::string update = "increment";               // increment, iteration
   int max_flips = 6;                              // status changes of a node in one increment before it is frozen
+  Real gap_tolerance = 0;                         // augmented Lagrangian: 0 = 1e-3 x mean slave facet size
+  int max_uzawa = 30;                             // augmented Lagrangian: updates per increment
   std::string where;                              // deck location
 };
 

@@ -482,6 +482,8 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (e.has("penalty")) cs.penalty = auto_or_positive(e.child("penalty"));
       cs.penalty_factor = e.number(es, "penalty_factor");
       cs.max_flips = static_cast<int>(e.number(es, "max_flips"));
+      if (e.has("gap_tolerance")) cs.gap_tolerance = auto_or_positive(e.child("gap_tolerance"));
+      cs.max_uzawa = static_cast<int>(e.number(es, "max_uzawa"));
     }
     if (c.has("search")) {
       Node s = c.child("search");

@@ -239,12 +239,17 @@ void register_deck_sections(Registry& r) {
           opt(text("axis", "cylinder in 3D: its axis", std::nullopt, ParamKind::vector)),
           text("inside", "the body is inside the cylinder or sphere (a hole)", "false", ParamKind::boolean)}});
   r.add({"deck", "enforcement", "How the contact constraints are enforced.",
-         {choice("method", "lagrange: multipliers, semi-smooth Newton, exact non-penetration; penalty: p = eps <-g>",
-                 {"lagrange", "penalty"}, "lagrange"),
+         {choice("method",
+                 "lagrange: multipliers, semi-smooth Newton, exact non-penetration; augmented_lagrangian: penalty "
+                 "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>",
+                 {"lagrange", "augmented_lagrangian", "penalty"}, "lagrange"),
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),
           number("penalty_factor", "factor of the automatic penalty", "10", 0, INFINITY, true),
-          number("max_flips", "status changes of a node in one increment before it is held closed", "6", 1, 1000)}});
+          number("max_flips", "status changes of a node in one increment before it is held closed", "6", 1, 1000),
+          text("gap_tolerance", "augmented_lagrangian: largest penetration accepted, or auto = 1e-3 x mean slave "
+                                "facet size", "auto", ParamKind::any),
+          number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000)}});
   r.add({"deck", "search", "Contact detection.",
          {choice("method", "global search: bucket_grid, bvh (AABB tree) or all_to_all (reference, slow)",
                  {"bucket_grid", "bvh", "all_to_all"}, "bucket_grid"),

@@ -235,9 +235,9 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   for (size_t i = 0; i < s.increments.size(); ++i) {
     const auto& r = s.increments[i];
     j += fmt::format("{}\n    {{\"step\": {}, \"increment\": {}, \"time\": {}, \"iterations\": {}, \"cutbacks\": {}, "
-                     "\"seconds\": {}, \"linear_solver\": \"{}\", \"residuals\": [",
+                     "\"uzawa_updates\": {}, \"seconds\": {}, \"linear_solver\": \"{}\", \"residuals\": [",
                      i ? "," : "", r.step + 1, r.increment, json_number(r.time), r.iterations, r.cutbacks,
-                     json_number(r.seconds), r.linear_solver);
+                     r.uzawa_updates, json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
     j += "]";
     if (!r.contact.empty()) {

@@ -299,7 +299,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       return true;
     }
     Real energy0 = 0;
-    for (int it = 1; it <= ns.max_iterations; ++it) {
+    int cycle_start = 1, uzawa = 0;
+    for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
       log::Timer ts;
       try {
         linear_solver_.solve(system_.matrix(), symmetric_, R, du);
@@ -321,7 +322,6 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       summary_.solve_seconds += ts.seconds();
       rec.linear_solver = linear_solver_.last_used();
       const Real energy = std::abs(du.dot(R));
-      if (it == 1) energy0 = energy;
       // Backtracking line search on the residual norm.
       const VecX u0 = u_;
       Real alpha = 1;
@@ -356,7 +356,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         why = "residual is not finite";
         return false;
       }
-      const bool energy_ok = it > 1 && energy <= ns.energy_tolerance * energy0;
+      if (it == cycle_start) energy0 = energy;
+      const bool energy_ok = it > cycle_start && energy <= ns.energy_tolerance * energy0;
       if (converged_residual(rnorm, scale) ||
           (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
         for (auto& c : contacts_)
@@ -364,9 +365,34 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
             why = fmt::format("contact '{}': {} node(s) held closed by the chattering guard end in tension", c->label(), n);
             return false;
           }
-        return true;
+        // Augmented Lagrangian: Uzawa updates of the multipliers until the penetration is
+        // within the tolerance; Newton goes on from the current state after each update.
+        bool satisfied = true;
+        for (auto& c : contacts_) {
+          if (!c->augmented()) continue;
+          Real pen = 0;
+          if (!c->uzawa_update(pen)) {
+            satisfied = false;
+            log::info("    Uzawa update {} of '{}': max penetration {:.3e} > {:.3e}", uzawa + 1, c->label(), pen,
+                      c->gap_tolerance());
+          }
+        }
+        if (satisfied) {
+          rec.uzawa_updates = uzawa;
+          return true;
+        }
+        const int max_uzawa = model_.contacts.empty() ? 0 : model_.contacts.front().max_uzawa;
+        if (++uzawa > max_uzawa) {
+          why = fmt::format("the augmented Lagrangian did not reach its gap tolerance in {} Uzawa updates", max_uzawa);
+          return false;
+        }
+        cycle_start = it + 1;
+        scale = evaluate(lambda, true, R);
+        rnorm = R.norm();
+        rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
+        continue;
       }
-      if (it > 3 && rel > 1e8 * rec.residuals.front()) {
+      if (it - cycle_start > 2 && rel > 1e8 * rec.residuals.front()) {
         why = "residual diverges";
         return false;
       }

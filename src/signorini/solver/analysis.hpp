@@ -35,6 +35,7 @@ struct IncrementRecord {
   double seconds = 0;
   std::string linear_solver;
   std::vector<ContactStats> contact;  // per contact interface
+  int uzawa_updates = 0;              // augmented Lagrangian multiplier updates
 };
 
 struct AnalysisSummary {

@@ -21,7 +21,7 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
     }
 }
 
-class Penalty final : public Enforcement {
+class Penalty : public Enforcement {
  public:
   std::string name() const override { return "penalty"; }
   bool uses_multipliers() const override { return false; }
@@ -32,7 +32,6 @@ class Penalty final : public Enforcement {
     const Index n = static_cast<Index>(cs.size());
     out.pressure.assign(n, 0.0);
     out.active.assign(n, 0);
-    const Real eps = in.stiffness;
 #pragma omp parallel
     {
       std::vector<Index> dofs;
@@ -41,9 +40,12 @@ class Penalty final : public Enforcement {
       for (Index j = 0; j < n; ++j) {
         const Constraint& c = cs[j];
         // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
-        // can then start from touching.
-        if (c.kind == ConstraintKind::none || c.gap > 0) continue;
-        const Real p = -eps * c.gap;
+        // can then start from touching. Augmented Lagrangian: the shift lambda-bar.
+        if (c.kind == ConstraintKind::none) continue;
+        const Real eps = (*in.stiffness)[j];
+        const Real shift = in.shift ? (*in.shift)[j] : 0.0;
+        if (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0)) continue;
+        const Real p = shift - eps * c.gap;
         out.pressure[j] = p;
         out.active[j] = 1;
         constraint_dofs(c, *in.dofs, in.dim, dofs);
@@ -58,6 +60,11 @@ class Penalty final : public Enforcement {
   }
 };
 
+class AugmentedLagrangian final : public Penalty {
+ public:
+  std::string name() const override { return "augmented_lagrangian"; }
+};
+
 class LagrangeMultipliers final : public Enforcement {
  public:
   std::string name() const override { return "lagrange"; }
@@ -69,7 +76,6 @@ class LagrangeMultipliers final : public Enforcement {
     const Index n = static_cast<Index>(cs.size());
     out.pressure.assign(n, 0.0);
     out.active.assign(n, 0);
-    const Real c0 = in.stiffness;
     // Scale of the rows of nodes without a constraint (keeps the system regular).
     Real mean_w = 0;
     for (auto& c : cs) mean_w += c.weight;
@@ -96,6 +102,7 @@ class LagrangeMultipliers final : public Enforcement {
           }
           continue;
         }
+        const Real c0 = (*in.stiffness)[j];
         const bool forced = in.forced && (*in.forced)[j] > 0;
         // At the kink (lambda = 0, g = 0: a node that just touches) either branch is a valid
         // Newton derivative; closed lets a body held only by contact start from touching.
@@ -128,7 +135,8 @@ class LagrangeMultipliers final : public Enforcement {
 std::unique_ptr<Enforcement> make_enforcement(const std::string& method) {
   if (method == "penalty") return std::make_unique<Penalty>();
   if (method == "lagrange") return std::make_unique<LagrangeMultipliers>();
-  throw Error("unknown contact enforcement method '" + method + "' (lagrange, penalty)");
+  if (method == "augmented_lagrangian") return std::make_unique<AugmentedLagrangian>();
+  throw Error("unknown contact enforcement method '" + method + "' (lagrange, augmented_lagrangian, penalty)");
 }
 
 }  // namespace signorini

@@ -3,7 +3,9 @@
 // semi-smooth Newton method: one multiplier (pressure) per slave node and the complementarity
 // function C = lambda - max(0, lambda - c g) = 0 (Alart & Curnier 1991; Hüeber & Wohlmuth 2005),
 // which makes the active set change inside Newton's iterations and gives exact
-// non-penetration. Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
+// non-penetration. Augmented Lagrangian: p = <lambda-bar - eps g> with lambda-bar updated
+// between Newton solves (Uzawa) until the penetration is below a tolerance
+// (Simo & Laursen 1992; Wriggers 2006, sec. 6.3). Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
 #pragma once
 #include <memory>
 #include <string>
@@ -19,9 +21,10 @@ struct EnforcementInput {
   const ConstraintSet* constraints = nullptr;
   const DofMap* dofs = nullptr;
   int dim = 2;
-  Real stiffness = 1;                       // penalty, or the complementarity constant c
+  const std::vector<Real>* stiffness = nullptr;  // per constraint: penalty, or the complementarity constant c
   Index multiplier_offset = -1;             // first multiplier unknown (Lagrange)
   const std::vector<signed char>* forced = nullptr;  // 1: keep the node closed (chattering guard)
+  const std::vector<Real>* shift = nullptr;          // augmented Lagrangian: the multipliers lambda-bar
 };
 
 struct EnforcementOutput {
