@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unistd.h>
 
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
@@ -37,7 +38,10 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
   // The temporary deck lives elsewhere: make the mesh path absolute.
   const size_t f = deck.find("file: ") + 6;
   deck.insert(f, (src.parent_path() / "").string());
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + example + ".yaml");
+  // A name of its own: tests run in parallel processes.
+  static int counter = 0;
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + example + "_" + std::to_string(::getpid()) + "_" +
+                                                     std::to_string(counter++) + ".yaml");
   std::ofstream(tmp) << deck;
   Registry r = default_registry();
   Model m = read_deck(tmp.string(), r);
@@ -45,6 +49,7 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
   HertzRun out;
   out.summary = a.run();
   out.checks = evaluate_checks(a);
+  fs::remove(tmp);
   return out;
 }
 

@@ -155,3 +155,47 @@ TEST(ContactGeometry, PointGapVariations) {
     }
   }
 }
+
+#include "signorini/contact/discretization/node_to_segment.hpp"
+
+TEST(ContactDetection, NoBlindSpotsAtMasterCorners) {
+  // The course's blind spots, in 2D, around a master corner at the origin (nodes (0,-1),
+  // (0,0), (-1,0)); a facet's outward normal is (t_y, -t_x): the body lies to its left.
+  std::vector<Vec3> x{Vec3(0, -1, 0), Vec3(0, 0, 0), Vec3(-1, 0, 0), Vec3::Zero(), Vec3::Zero()};
+  MasterSurface master;
+  master.type = {ElementType::line2, ElementType::line2};
+  master.node_facets.resize(5);
+  master.node_facets[0] = {1};
+  master.node_facets[1] = {0, 1};
+  master.node_facets[2] = {0};
+  master.nodes = {0, 1, 2};
+  SlaveSurface slave;
+  slave.nodes = {3, 4};
+  slave.weights = {1, 1};
+  ConstraintSet cs;
+
+  // Convex corner: the body is the quadrant x < 0, y < 0 (normals +x on x = 0, +y on y = 0).
+  master.facets = {{0, 1}, {1, 2}};
+  ASSERT_NEAR(facet_normal(ElementType::line2, {x[0], x[1]}, Vec3::Zero(), 2).x(), 1, 1e-12);
+  ASSERT_NEAR(facet_normal(ElementType::line2, {x[1], x[2]}, Vec3::Zero(), 2).y(), 1, 1e-12);
+  x[3] = Vec3(0.1, 0.1, 0);      // outside, beyond the corner: no facet projects it
+  x[4] = Vec3(-0.01, -0.02, 0);  // just inside the body near the corner
+  node_to_segment(master, slave, x, 2, {0, 0}, cs);
+  EXPECT_EQ(cs[0].kind, ConstraintKind::vertex);
+  EXPECT_NEAR(cs[0].gap, std::sqrt(0.02), 1e-12);
+  EXPECT_EQ(cs[1].kind, ConstraintKind::segment);
+  EXPECT_NEAR(cs[1].gap, -0.01, 1e-12);  // the nearer face, x = 0
+
+  // Re-entrant corner: the same polyline reversed, the body is everything but that quadrant.
+  // A node deep in the body beyond both facets' ends projects inside neither: the blind
+  // spot. It must be caught as penetrating (node-to-vertex). A node in the empty quadrant is
+  // open.
+  master.facets = {{2, 1}, {1, 0}};
+  x[3] = Vec3(0.02, 0.05, 0);
+  x[4] = Vec3(-0.05, -0.03, 0);
+  node_to_segment(master, slave, x, 2, {0, 0}, cs);
+  EXPECT_EQ(cs[0].kind, ConstraintKind::vertex) << "the blind-spot node was missed";
+  EXPECT_NEAR(cs[0].gap, -std::hypot(0.02, 0.05), 1e-12);
+  EXPECT_EQ(cs[1].kind, ConstraintKind::segment);
+  EXPECT_NEAR(cs[1].gap, 0.03, 1e-12);
+}

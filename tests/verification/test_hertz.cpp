@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 using namespace signorini;
 
@@ -55,6 +56,15 @@ TEST(Hertz, EveryEnforcementMethodAgrees) {
   }
 }
 
+TEST(Hertz, DetectionAtEveryIterationGivesTheSameAnswer) {
+  test::HertzRun inc = test::run_hertz("hertz_cylinder", 0.005);
+  test::HertzRun it = test::run_hertz("hertz_cylinder", 0.005,
+                                      "enforcement: {method: lagrange}\n    search: {update: iteration, method: bvh}");
+  ASSERT_TRUE(it.summary.completed) << it.summary.failure;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(it.checks[k].computed, inc.checks[k].computed, 1e-6 * std::abs(inc.checks[k].computed)) << k;
+}
+
 TEST(Hertz, RigidCylinderPushedIntoABlock) {
   // A rigid roller (R = 10 mm) pushed 3 um into a steel block by a prescribed displacement,
   // plane strain, half model. Hertz (Johnson 1985, ch. 4) with E* = E/(1-nu^2) and the
@@ -77,7 +87,7 @@ TEST(Hertz, RigidCylinderPushedIntoABlock) {
                            "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1}\n"
                            "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 1}\n"
                            "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: 1}\n";
-  const fs::path tmp = fs::temp_directory_path() / "signorini_rigid_roller.yaml";
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_rigid_roller_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(tmp) << deck;
   log::set_level(log::Level::warning);
   Registry r = default_registry();

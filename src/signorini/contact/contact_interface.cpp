@@ -184,25 +184,41 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   in.forced = &forced_;
   if (augmented()) in.shift = &shift_;
   enforcement_->assemble(in, z, residual, K, state_);
-  if (!K) return;
-  // Chattering guard: a node whose status keeps flipping within the increment is held closed.
+}
+
+void ContactInterface::count_status_changes() {
+  // Chattering guard, on accepted iterates only: a node whose status keeps flipping within
+  // the increment is held in its current status.
   std::vector<Index> newly_frozen;
   for (size_t j = 0; j < state_.active.size(); ++j) {
     if (state_.active[j] != last_active_[j]) ++flips_[j];
     last_active_[j] = state_.active[j];
     if (flips_[j] > s_.max_flips && !forced_[j]) {
-      forced_[j] = 1;
+      forced_[j] = state_.active[j] ? 1 : -1;
       newly_frozen.push_back(slave_.nodes[j]);
     }
   }
   if (!newly_frozen.empty()) {
     std::string ids;
     for (size_t k = 0; k < newly_frozen.size() && k < 20; ++k) ids += (k ? ", " : "") + std::to_string(newly_frozen[k]);
-    log::warning("contact '{}': {} slave node(s) changed status more than {} times in this increment and are held "
-                 "closed until it ends (node indices {}{})",
+    log::warning("contact '{}': {} slave node(s) changed status more than {} times in this increment and are held in "
+                 "their status until it ends (node indices {}{})",
                  label_, newly_frozen.size(), s_.max_flips, ids, newly_frozen.size() > 20 ? ", ..." : "");
     frozen_reported_ += static_cast<Index>(newly_frozen.size());
   }
+}
+
+Index ContactInterface::fix_held_nodes() {
+  // A node held closed that ends in tension is released (held open instead), once; a node
+  // held open that penetrates beyond the tolerance cannot be fixed here.
+  Index changed = 0;
+  for (size_t j = 0; j < forced_.size() && j < state_.pressure.size(); ++j) {
+    if (forced_[j] == 1 && state_.pressure[j] < 0) {
+      forced_[j] = -2;
+      ++changed;
+    }
+  }
+  return changed;
 }
 
 Real ContactInterface::gap_tolerance() const {
@@ -231,9 +247,13 @@ bool ContactInterface::uzawa_update(Real& max_penetration) {
 }
 
 Index ContactInterface::frozen_in_tension() const {
+  // Held nodes whose final state violates the contact conditions: closed in tension, or
+  // open and penetrating beyond 1e-3 of the local facet size.
   Index n = 0;
-  for (size_t j = 0; j < forced_.size() && j < state_.pressure.size(); ++j)
-    if (forced_[j] && state_.pressure[j] < 0) ++n;
+  for (size_t j = 0; j < forced_.size() && j < state_.pressure.size(); ++j) {
+    if (forced_[j] > 0 && state_.pressure[j] < 0) ++n;
+    if (forced_[j] < 0 && constraints_[j].kind != ConstraintKind::none && -constraints_[j].gap > 1e-3 * node_size_[j]) ++n;
+  }
   return n;
 }
 
@@ -243,7 +263,7 @@ ContactStats ContactInterface::commit() {
   for (size_t j = 0; j < state_.active.size(); ++j) {
     st.active += state_.active[j];
     st.changes += state_.active[j] != committed_active_[j];
-    st.frozen += forced_[j] > 0;
+    st.frozen += forced_[j] != 0;
     const Constraint& c = constraints_[j];
     if (c.kind != ConstraintKind::none) {
       st.max_penetration = std::max(st.max_penetration, -c.gap);

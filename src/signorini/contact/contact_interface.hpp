@@ -59,8 +59,13 @@ class ContactInterface {
   // Augmented Lagrangian, after Newton converged: true if the penetration is within the
   // tolerance; else the multipliers are updated (Uzawa) and false returned.
   bool uzawa_update(Real& max_penetration);
-  // Nodes held closed by the chattering guard that end in tension: the increment is not a
-  // valid solution of the contact conditions then.
+  // After an accepted Newton iterate: count status changes (chattering guard).
+  void count_status_changes();
+  // After convergence: a node held closed that ends in tension is held open instead
+  // (returns how many; Newton must go on then).
+  Index fix_held_nodes();
+  // Held nodes whose final state violates the contact conditions (the increment is then not
+  // a solution and is cut back).
   Index frozen_in_tension() const;
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();

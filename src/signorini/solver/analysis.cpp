@@ -299,7 +299,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       return true;
     }
     Real energy0 = 0;
-    int cycle_start = 1, uzawa = 0;
+    int cycle_start = 1, uzawa = 0, released_rounds = 0;
     for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
       log::Timer ts;
       try {
@@ -345,6 +345,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       }
       R.swap(Rtrial);
       rnorm = new_norm;
+      for (auto& c : contacts_) c->count_status_changes();
       scale = std::max(scale, new_scale);
       const Real rel = scale > 0 ? rnorm / scale : rnorm;
       rec.residuals.push_back(rel);
@@ -360,9 +361,21 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       const bool energy_ok = it > cycle_start && energy <= ns.energy_tolerance * energy0;
       if (converged_residual(rnorm, scale) ||
           (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
+        Index released = 0;
+        for (auto& c : contacts_) released += c->fix_held_nodes();
+        if (released > 0 && released_rounds++ < 3) {
+          log::info("    {} node(s) held closed by the chattering guard ended in tension: held open, Newton goes on",
+                    released);
+          cycle_start = it + 1;
+          scale = evaluate(lambda, true, R);
+          rnorm = R.norm();
+          rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
+          continue;
+        }
         for (auto& c : contacts_)
           if (const Index n = c->frozen_in_tension()) {
-            why = fmt::format("contact '{}': {} node(s) held closed by the chattering guard end in tension", c->label(), n);
+            why = fmt::format("contact '{}': {} node(s) held by the chattering guard violate the contact conditions",
+                              c->label(), n);
             return false;
           }
         // Augmented Lagrangian: Uzawa updates of the multipliers until the penetration is

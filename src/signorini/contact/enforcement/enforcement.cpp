@@ -103,10 +103,10 @@ class LagrangeMultipliers final : public Enforcement {
           continue;
         }
         const Real c0 = (*in.stiffness)[j];
-        const bool forced = in.forced && (*in.forced)[j] > 0;
+        const int hold = in.forced ? (*in.forced)[j] : 0;
         // At the kink (lambda = 0, g = 0: a node that just touches) either branch is a valid
         // Newton derivative; closed lets a body held only by contact start from touching.
-        const bool active = forced || lambda - c0 * c.gap >= 0;
+        const bool active = hold > 0 || (hold == 0 && lambda - c0 * c.gap >= 0);
         out.active[j] = active;
         constraint_dofs(c, *in.dofs, in.dim, dofs);
         const int m = static_cast<int>(dofs.size());

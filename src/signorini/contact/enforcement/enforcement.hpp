@@ -23,7 +23,7 @@ struct EnforcementInput {
   int dim = 2;
   const std::vector<Real>* stiffness = nullptr;  // per constraint: penalty, or the complementarity constant c
   Index multiplier_offset = -1;             // first multiplier unknown (Lagrange)
-  const std::vector<signed char>* forced = nullptr;  // 1: keep the node closed (chattering guard)
+  const std::vector<signed char>* forced = nullptr;  // > 0 hold closed, < 0 hold open (chattering guard)
   const std::vector<Real>* shift = nullptr;          // augmented Lagrangian: the multipliers lambda-bar
 };
 
