@@ -219,3 +219,54 @@ TEST(Deck, RunThatGivesUpKeepsLastConvergedStateOnDisk) {
   const std::string rows((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
   EXPECT_MESSAGE(rows, "step,increment,time", "\n1,1,", ",Left,");
 }
+
+namespace {
+// Two squares side by side would need another mesh; the unit square's own sides serve as
+// facet sets for the contact section's validation.
+const std::string kContact = kGood + R"(contact:
+  - name: c1
+    master: Top
+    slave: Bottom
+)";
+}  // namespace
+
+TEST(Deck, ContactSectionErrors) {
+  auto m = error_of("c_set", replace(kContact, "master: Top", "master: Roof"));
+  EXPECT_MESSAGE(m, "c_set.yaml:17", "contact[0].master", "'Roof'", "Bottom, Left, Right, Top");
+  m = error_of("c_friction", kContact + "    friction: {law: coulomb, mu: 0.3}\n");
+  EXPECT_MESSAGE(m, "c_friction.yaml:19", "contact[0].friction", "not available yet");
+  m = error_of("c_same", replace(kContact, "slave: Bottom", "slave: Top"));
+  EXPECT_MESSAGE(m, "c_same.yaml:18", "same facet set");
+  m = error_of("c_passes", kContact + "    discretization: node_to_node\n    passes: 2\n");
+  EXPECT_MESSAGE(m, "c_passes.yaml:20", "contact[0].passes", "node_to_segment only");
+  m = error_of("c_method", kContact + "    enforcement: {method: mortar}\n");
+  EXPECT_MESSAGE(m, "c_method.yaml:19", "contact[0].enforcement.method", "lagrange, augmented_lagrangian, penalty");
+  m = error_of("c_sphere", replace(kContact, "master: Top", "master: {rigid: sphere, center: [0, 2], radius: 1}"));
+  EXPECT_MESSAGE(m, "c_sphere.yaml:17", "contact[0].master.rigid", "axisymmetric or 3D");
+  m = error_of("c_auto", replace(kContact, "master: Top", "master: auto"));
+  EXPECT_MESSAGE(m, "c_auto.yaml:16", "surfaces: [A, B]");
+  m = error_of("c_motion", replace(kContact, "      - {set: Bottom, uy: 0}", "      - {contact: c1, u: [0, 1]}"));
+  EXPECT_MESSAGE(m, "c_motion.yaml:12", "steps[0].boundary[1].contact", "no contact pair with a rigid obstacle named 'c1'");
+  m = error_of("c_check", kContact + "checks:\n  - {name: p, quantity: contact_pressure_max, pair: c2, expected: 1}\n");
+  EXPECT_MESSAGE(m, "c_check.yaml:20", "checks[0].pair", "no contact pair named 'c2'");
+}
+
+TEST(Deck, ContactMasterAutoAndRuleWarning) {
+  Registry r = default_registry();
+  // master: auto with equal meshes: the softer body's surface becomes slave (one body here).
+  Model m = read_deck(write_deck("c_auto_ok", replace(kContact, "master: Top\n    slave: Bottom",
+                                                      "master: auto\n    surfaces: [Top, Bottom]")),
+                      r);
+  ASSERT_EQ(m.contacts.size(), 1u);
+  EXPECT_NE(m.contacts[0].master, m.contacts[0].slave);
+  // A rigid obstacle pair parses with its motion.
+  Model rm = read_deck(write_deck("c_rigid", replace(replace(kContact, "master: Top",
+                                                             "master: {rigid: plane, point: [0, -1], normal: [0, 1]}"),
+                                                     "      - {set: Bottom, uy: 0}",
+                                                     "      - {contact: c1, u: [0, 0.5]}")),
+                       r);
+  ASSERT_TRUE(rm.contacts[0].rigid);
+  EXPECT_NEAR(rm.contacts[0].obstacle.normal.y(), 1, 1e-15);
+  ASSERT_EQ(rm.steps[0].obstacles.size(), 1u);
+  EXPECT_NEAR(rm.steps[0].obstacles[0].end.y(), 0.5, 1e-15);
+}
