@@ -58,3 +58,15 @@ TEST(LongRefinement, HertzTables) {
     (void)last_p0;
   }
 }
+
+TEST(LongRefinement, HertzSphere3D) {
+  std::printf("hertz_sphere_3d: hc, p0 error %%, a error %%, Newton iterations, seconds\n");
+  for (Real hc : {0.02, 0.015, 0.012, 0.01}) {
+    signorini::test::HertzRun r = signorini::test::run_hertz("hertz_sphere_3d", hc);
+    ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+    std::printf("  %.4f  %7.3f  %7.3f  %3d  %.2f\n", hc, 100 * r.checks[0].error, 100 * r.checks[1].error,
+                r.summary.total_iterations, r.summary.total_seconds);
+    EXPECT_LT(r.checks[1].error, 0.05);
+    EXPECT_LT(r.checks[2].error, 1e-4);
+  }
+}

@@ -132,6 +132,7 @@ void Analysis::rebuild_pattern() {
   couplings_ = std::move(couplings);
   system_.build_pattern(dofs_, cells_, couplings_, num_unknowns());
   linear_solver_.reset();  // a new pattern needs a new symbolic analysis
+  log::debug("sparse pattern rebuilt: {} unknowns, {} nonzeros", num_unknowns(), system_.nonzeros());
 }
 
 void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent) {

@@ -19,6 +19,11 @@ class EigenDirect final : public LinearSolver {
   explicit EigenDirect(std::string name) : name_(std::move(name)) {
     // CHOLMOD prints its own warnings (e.g. "not positive definite"); we report failures.
     if constexpr (requires(EigenSolver& s) { s.cholmod(); }) solver_.cholmod().print = 0;
+    // Finite element patterns are structurally symmetric (contact multipliers included):
+    // UMFPACK's symmetric strategy orders A + A^T (AMD) and is much faster on 3D meshes than
+    // its default column ordering.
+    if constexpr (requires(EigenSolver& s) { s.umfpackControl(); })
+      solver_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
   }
   std::string name() const override { return name_; }
   bool factorize(const SparseMatrix& a) override {

@@ -6,6 +6,10 @@
 
 namespace signorini {
 
+namespace {
+constexpr Real kEdgeTolerance = 1e-2;  // in facet parameters
+}  // namespace
+
 void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
                      const std::vector<Index>& candidate, ConstraintSet& out) {
   const Index ns = static_cast<Index>(slave.nodes.size());
@@ -26,7 +30,11 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     for (Index f : around) {
       xf.clear();
       for (Index n : master.facets[f]) xf.push_back(x[n]);
-      FacetProjection fp = project_on_facet(master.type[f], xf, p, dim);
+      // A projection up to 1 % of the facet beyond its edge still counts (on the facet's
+      // extended surface): on a deforming master, a slave node on a symmetry plane projects
+      // orthogonally onto a tilted boundary facet slightly outside it, and the vertex
+      // fallback there would switch the gap to another function and stall Newton.
+      FacetProjection fp = project_on_facet(master.type[f], xf, p, dim, kEdgeTolerance);
       if (fp.inside && std::abs(fp.gap) < best_dist) {
         best_dist = std::abs(fp.gap);
         best = f;
