@@ -22,24 +22,28 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     if (candidate[j] < 0 || !(c.weight > 0)) continue;
     const Vec3& p = x[c.slave];
     const std::vector<Index> around = master.neighbourhood(candidate[j]);
-    // The closest projection that falls inside its facet.
+    // The closest projection that falls inside its facet; failing that, the closest one
+    // within 1 % of a facet beyond its edge, on the facet's extended surface (a slave node
+    // on a symmetry plane projects orthogonally onto a tilted boundary facet of a deforming
+    // master slightly outside it; the vertex fallback there would switch its gap to another
+    // function and stall Newton).
     Index best = -1;
     FacetProjection best_fp;
     std::vector<Vec3> xf, best_x;
     Real best_dist = std::numeric_limits<Real>::infinity();
+    bool best_strict = false;
     for (Index f : around) {
       xf.clear();
       for (Index n : master.facets[f]) xf.push_back(x[n]);
-      // A projection up to 1 % of the facet beyond its edge still counts (on the facet's
-      // extended surface): on a deforming master, a slave node on a symmetry plane projects
-      // orthogonally onto a tilted boundary facet slightly outside it, and the vertex
-      // fallback there would switch the gap to another function and stall Newton.
       FacetProjection fp = project_on_facet(master.type[f], xf, p, dim, kEdgeTolerance);
-      if (fp.inside && std::abs(fp.gap) < best_dist) {
+      if (!fp.inside) continue;
+      const bool strict = inside_reference(master.type[f], fp.xi, 1e-9);
+      if ((strict && !best_strict) || (strict == best_strict && std::abs(fp.gap) < best_dist)) {
         best_dist = std::abs(fp.gap);
         best = f;
         best_fp = fp;
         best_x = xf;
+        best_strict = strict;
       }
     }
     if (best >= 0) {
