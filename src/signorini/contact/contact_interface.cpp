@@ -1,6 +1,7 @@
 #include "signorini/contact/contact_interface.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <set>
 
 #include "signorini/contact/discretization/node_to_segment.hpp"
@@ -219,6 +220,19 @@ Index ContactInterface::fix_held_nodes() {
     }
   }
   return changed;
+}
+
+std::vector<ContactInterface::SlaveState> ContactInterface::slave_states() const {
+  std::vector<SlaveState> out;
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    if (c.slave < 0) continue;
+    const bool has = c.kind != ConstraintKind::none;
+    const bool closed = j < state_.active.size() && state_.active[j];
+    out.push_back({c.slave, !has ? 0 : (closed ? 2 : 1), has ? c.gap : std::numeric_limits<Real>::quiet_NaN(),
+                   j < state_.pressure.size() ? state_.pressure[j] : 0.0});
+  }
+  return out;
 }
 
 Real ContactInterface::gap_tolerance() const {

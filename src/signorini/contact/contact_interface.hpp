@@ -70,6 +70,15 @@ class ContactInterface {
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();
 
+  // The state of each slave node for output: 0 no master within reach, 1 open, 2 closed.
+  struct SlaveState {
+    Index node;
+    int status;
+    Real gap;       // NaN when no master is within reach
+    Real pressure;  // positive in compression
+  };
+  std::vector<SlaveState> slave_states() const;
+
   const SlaveSurface& slave() const { return slave_; }
   const ConstraintSet& constraints() const { return constraints_; }
   const EnforcementOutput& state() const { return state_; }

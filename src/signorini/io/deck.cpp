@@ -213,6 +213,15 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
 
 std::string component_name(int c) { return std::string(1, "xyz"[c]); }
 
+// The facet set named by the node's value; an error lists the facet sets there are.
+std::string facet_set_named(const Node& n, const Mesh& mesh) {
+  const std::string set = n.as_string();
+  if (!mesh.facet_sets.count(set))
+    n.fail("no facet set (physical group of " + std::to_string(mesh.dim - 1) + "D facets) named '" + set +
+           "' (facet sets: " + mesh.facet_set_names() + ")");
+  return set;
+}
+
 void read_value(const Node& v, DirichletCondition& d) {
   if (v.node.IsMap()) {
     v.expect_map();
@@ -322,9 +331,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
             l.child("set").fail("no node set named '" + load.set + "' (sets: " + m.mesh.node_set_names() + ")");
           load.vector = l.child("force").vector(dim);
         } else {
-          if (!m.mesh.facet_sets.count(load.set))
-            l.child("set").fail("no facet set (physical group of " + std::to_string(dim - 1) + "D facets) named '" +
-                                load.set + "' (facet sets: " + m.mesh.facet_set_names() + ")");
+          facet_set_named(l.child("set"), m.mesh);
           if (l.has("traction")) {
             load.kind = LoadKind::traction;
             load.vector = l.child("traction").vector(dim);
@@ -396,13 +403,7 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
     if (c.has("friction"))
       c.child("friction").fail("friction is not available yet: contact is frictionless in this version (remove the "
                                "'friction' entry)");
-    auto facet_set = [&](const Node& n) {
-      const std::string set = n.as_string();
-      if (!m.mesh.facet_sets.count(set))
-        n.fail("no facet set (physical group of " + std::to_string(m.mesh.dim - 1) + "D facets) named '" + set +
-               "' (facet sets: " + m.mesh.facet_set_names() + ")");
-      return set;
-    };
+    auto facet_set = [&](const Node& n) { return facet_set_named(n, m.mesh); };
     const bool rigid = c.has("master") && c.child("master").node.IsMap();
     const bool automatic = !rigid && c.has("master") && c.child("master").as_string() == "auto";
     if (rigid) {

@@ -122,18 +122,12 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField pres{"contact_pressure", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField status{"contact_status", 1, std::vector<Real>(m.mesh.num_nodes(), -1.0), {}};
-    for (auto& c : a.contacts()) {
-      const auto& cs = c->constraints();
-      const auto& st = c->state();
-      for (size_t j = 0; j < cs.size(); ++j) {
-        const Index n = cs[j].slave;
-        if (n < 0) continue;
-        const bool has = cs[j].kind != ConstraintKind::none;
-        gap.values[n] = has ? cs[j].gap : 0.0;
-        pres.values[n] = j < st.pressure.size() ? st.pressure[j] : 0.0;
-        status.values[n] = !has ? 0.0 : (j < st.active.size() && st.active[j] ? 2.0 : 1.0);
+    for (auto& c : a.contacts())
+      for (const auto& ns : c->slave_states()) {
+        gap.values[ns.node] = ns.status ? ns.gap : 0.0;
+        pres.values[ns.node] = ns.pressure;
+        status.values[ns.node] = ns.status;
       }
-    }
     d.point_fields.push_back(gap);
     d.point_fields.push_back(pres);
     d.point_fields.push_back(status);
@@ -195,15 +189,12 @@ void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& 
     for (char ch : c->label()) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
     while (!name.empty() && name.back() == '_') name.pop_back();
     std::string text = "node,x,y,z,gap,pressure,status\n";
-    const auto& cs = c->constraints();
-    const auto& st = c->state();
-    for (size_t j = 0; j < cs.size(); ++j) {
-      const Index n = cs[j].slave;
-      if (n < 0) continue;
-      const bool has = cs[j].kind != ConstraintKind::none;
-      const char* status = !has ? "far" : (st.active[j] ? "closed" : "open");
+    static const char* const names[] = {"far", "open", "closed"};
+    for (const auto& ns : c->slave_states()) {
+      const Index n = ns.node;
       text += fmt::format("{},{:.10e},{:.10e},{:.10e},{},{:.10e},{}\n", model_.mesh.node_ids[n], x[n](0), x[n](1),
-                          x[n](2), has ? fmt::format("{:.10e}", cs[j].gap) : std::string("nan"), st.pressure[j], status);
+                          x[n](2), ns.status ? fmt::format("{:.10e}", ns.gap) : std::string("nan"), ns.pressure,
+                          names[ns.status]);
     }
     write_file_atomically(fmt::format("{}/contact_{}_{:02d}_{:04d}.csv", dir_, name, rec.step + 1, rec.increment), text);
   }
