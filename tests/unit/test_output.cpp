@@ -65,3 +65,56 @@ TEST(Output, PvdListsFilesWithTimes) {
   EXPECT_NE(s.find("timestep=\"0.5\" part=\"0\" file=\"a.vtu\""), std::string::npos);
   EXPECT_NE(s.find("timestep=\"1\" part=\"0\" file=\"b.vtu\""), std::string::npos);
 }
+
+#include <fstream>
+
+#include "common.hpp"
+#include "signorini/io/results_writer.hpp"
+#include "signorini/solver/analysis.hpp"
+
+TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
+  // Two blocks pressed together: a contact CSV per increment with the documented header and
+  // one row per slave node, and the slave surface as its own VTU (its facets as cells).
+  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5, 0));
+  AnalysisSettings s;
+  Model m;
+  m.settings = s;
+  m.mesh = std::move(mesh);
+  orient_facets(m.mesh);
+  auto mat = std::make_shared<LinearElastic>(100, 0.3);
+  m.bodies.push_back(std::make_unique<Body>("lower", m.mesh.regions["lower_domain"], mat, s));
+  m.bodies.push_back(std::make_unique<Body>("upper", m.mesh.regions["upper_domain"], mat, s));
+  ContactPairSettings cs;
+  cs.name = "pair one";
+  cs.master = "lower_ymax";
+  cs.slave = "upper_ymin";
+  m.contacts = {cs};
+  Step st;
+  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
+                  test::fix("upper_ymax", 1, -0.01)};
+  m.steps = {st};
+  const std::string dir = (std::filesystem::temp_directory_path() / "signorini_contact_output").string();
+  std::filesystem::remove_all(dir);
+  ResultsWriter w(m, dir);
+  Analysis a(m);
+  w.write_initial(a);
+  a.on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
+  ASSERT_TRUE(a.run().completed);
+  std::ifstream csv(dir + "/contact_pair_one_01_0001.csv");
+  ASSERT_TRUE(csv) << "no contact CSV";
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "node,x,y,z,gap,pressure,status");
+  int rows = 0, closed = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    closed += line.find(",closed") != std::string::npos;
+  }
+  EXPECT_EQ(rows, 5);  // 4 slave facets, 5 nodes
+  EXPECT_EQ(closed, 5);
+  std::ifstream vtu(dir + "/contact_pair_one_01_0001.vtu");
+  const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
+  EXPECT_NE(text.find("Name=\"pressure\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/contact_pair_one.pvd"));
+}

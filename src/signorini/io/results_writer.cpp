@@ -95,7 +95,8 @@ ResultsWriter::ResultsWriter(const Model& model, std::string directory) : model_
   // Old VTU files of a previous run would mix with this one's in ParaView.
   for (auto& e : std::filesystem::directory_iterator(dir_))
     if ((e.path().extension() == ".vtu" && e.path().filename().string().rfind("increment_", 0) == 0) ||
-        (e.path().extension() == ".csv" && e.path().filename().string().rfind("contact_", 0) == 0))
+        ((e.path().extension() == ".csv" || e.path().extension() == ".vtu" || e.path().extension() == ".pvd") &&
+         e.path().filename().string().rfind("contact_", 0) == 0))
       std::filesystem::remove(e.path(), ec);
   csv_ = "step,increment,time,fraction,set,fx,fy,fz\n";
 }
@@ -155,6 +156,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   write_file_atomically(dir_ + "/" + name, vtu_text(d));
   pvd_.emplace_back(time, name);
   write_file_atomically(pvd_path(), pvd_text(pvd_));
+  if (step >= 0) write_contact_vtu(a, time, step, inc);
 }
 
 void ResultsWriter::write_initial(const Analysis& a) {
@@ -182,12 +184,62 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
   write_json(a, a.summary(), "running", {});
 }
 
+namespace {
+std::string file_label(const std::string& label) {
+  std::string name;
+  for (char ch : label) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  while (!name.empty() && name.back() == '_') name.pop_back();
+  return name;
+}
+}  // namespace
+
+void ResultsWriter::write_contact_vtu(const Analysis& a, Real time, int step, int inc) {
+  const std::vector<Vec3> x = a.positions(a.displacement());
+  for (auto& c : a.contacts()) {
+    const std::string name = file_label(c->label());
+    // The interface's own settings: master and slave are swapped for a second pass.
+    const auto& facets = model_.mesh.facet_sets.at(c->settings().slave);
+    // Points: the slave nodes, in current coordinates.
+    std::vector<Index> local(model_.mesh.num_nodes(), -1);
+    std::vector<Vec3> pts;
+    for (const auto& b : facets)
+      for (Index n : b.conn)
+        if (local[n] < 0) {
+          local[n] = static_cast<Index>(pts.size());
+          pts.push_back(x[n]);
+        }
+    std::vector<ElementBlock> blocks = facets;
+    for (auto& b : blocks)
+      for (auto& n : b.conn) n = local[n];
+    VtuData d;
+    d.points = &pts;
+    for (auto& b : blocks) d.cells.push_back(&b);
+    VtuField gap{"gap", 1, std::vector<Real>(pts.size(), 0.0), {}};
+    VtuField pres{"pressure", 1, std::vector<Real>(pts.size(), 0.0), {}};
+    VtuField status{"status", 1, std::vector<Real>(pts.size(), 0.0), {}};
+    VtuField id{"node_id", 1, std::vector<Real>(pts.size(), 0.0), {}};
+    for (const auto& ns : c->slave_states()) {
+      const Index k = local[ns.node];
+      if (k < 0) continue;
+      gap.values[k] = ns.status ? ns.gap : 0.0;
+      pres.values[k] = ns.pressure;
+      status.values[k] = ns.status;
+    }
+    for (Index n = 0; n < model_.mesh.num_nodes(); ++n)
+      if (local[n] >= 0) id.values[local[n]] = static_cast<Real>(model_.mesh.node_ids[n]);
+    d.point_fields = {gap, pres, status, id};
+    const std::string file = fmt::format("contact_{}_{:02d}_{:04d}.vtu", name, step + 1, inc);
+    write_file_atomically(dir_ + "/" + file, vtu_text(d));
+    auto& list = contact_pvd_[name];
+    list.emplace_back(time, file);
+    write_file_atomically(dir_ + "/contact_" + name + ".pvd", pvd_text(list));
+  }
+}
+
 void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& rec) {
   const std::vector<Vec3> x = a.positions(a.displacement());
   for (auto& c : a.contacts()) {
-    std::string name;
-    for (char ch : c->label()) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-    while (!name.empty() && name.back() == '_') name.pop_back();
+    const std::string name = file_label(c->label());
     std::string text = "node,x,y,z,gap,pressure,status\n";
     static const char* const names[] = {"far", "open", "closed"};
     for (const auto& ns : c->slave_states()) {

@@ -2,6 +2,7 @@
 // PVD collection, a CSV of reaction forces per set and increment, and a JSON summary whose
 // status says whether the run is still going, finished, or failed (and why).
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,11 +34,15 @@ class ResultsWriter {
  private:
   void write_vtu(const Analysis& a, Real time, int step, int inc);
   void write_contact_csv(const Analysis& a, const IncrementRecord& rec);
+  // The slave surface of each pair as its own mesh (facets as cells) with gap, pressure and
+  // status, in contact_<pair>.pvd.
+  void write_contact_vtu(const Analysis& a, Real time, int step, int inc);
   void write_json(const Analysis& a, const AnalysisSummary& s, const std::string& status,
                   const std::vector<CheckResult>& checks);
   const Model& model_;
   std::string dir_;
   std::vector<std::pair<Real, std::string>> pvd_;
+  std::map<std::string, std::vector<std::pair<Real, std::string>>> contact_pvd_;  // per pair
   std::string csv_;
   IncrementRecord last_record_;
   bool have_last_ = false;
