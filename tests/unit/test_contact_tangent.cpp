@@ -115,3 +115,61 @@ INSTANTIATE_TEST_SUITE_P(
                       PairCase{"node_to_segment", "augmented_lagrangian", false, ElementType::quad4},
                       PairCase{"node_to_segment", "augmented_lagrangian", true, ElementType::hex8}),
     name_of);
+
+TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
+  // A block's top against a rigid cylinder whose displacement is two unknowns: residual and
+  // tangent (nodes, multipliers, obstacle) against central differences, for each method.
+  for (const char* method : {"penalty", "lagrange", "augmented_lagrangian"}) {
+    Mesh mesh = structured_rectangle(ElementType::quad4, 6, 2, 1.0, 0.5);
+    orient_facets(mesh);
+    AnalysisSettings as;
+    ContactPairSettings cs;
+    cs.name = "roller";
+    cs.slave = "ymax";
+    cs.rigid = true;
+    cs.method = method;
+    cs.obstacle.shape = "cylinder";
+    cs.obstacle.point = Vec3(0.5, 1.5, 0);
+    cs.obstacle.radius = 1.0;
+    ContactInterface ci(cs, mesh, as, 100.0, false);
+    std::vector<const ElementBlock*> cells;
+    for (auto& b : mesh.regions["domain"]) cells.push_back(&b);
+    DofMap dofs(mesh.num_nodes(), 2, cells);
+    ci.set_multiplier_offset(dofs.num_dofs());
+    ci.set_obstacle_dofs(dofs.num_dofs() + ci.num_multipliers());
+    const Index nz = dofs.num_dofs() + ci.num_multipliers() + 2;
+    VecX z = VecX::Zero(nz);
+    for (Index n = 0; n < mesh.num_nodes(); ++n) z(dofs.dof(n, 0)) = 0.01 * std::sin(3.0 * n);
+    z(nz - 2) = 0.02;   // the obstacle moves sideways and down into the block
+    z(nz - 1) = -0.03;
+    for (Index j = 0; j < ci.num_multipliers(); ++j) z(dofs.num_dofs() + j) = 0.5 * (j % 2);
+    ci.detect(test::cells_of_positions(mesh, dofs, z), 0.1);
+    auto residual = [&](const VecX& zz, GlobalMatrix* K) {
+      VecX r = VecX::Zero(nz);
+      ci.assemble(test::cells_of_positions(mesh, dofs, zz), zz, dofs, r, K);
+      return r;
+    };
+    if (std::string(method) == "augmented_lagrangian") {
+      residual(z, nullptr);
+      Real pen = 0;
+      ci.uzawa_update(pen);
+    }
+    DenseMatrix K(nz);
+    const VecX r0 = residual(z, &K);
+    Index active = 0;
+    for (char a : ci.state().active) active += a;
+    ASSERT_GT(active, 0) << method;
+    // The obstacle feels the opposite of the slave nodes' contact forces.
+    EXPECT_GT(std::abs(r0(nz - 1)), 0) << method;
+    const Real h = 1e-7;
+    Real maxerr = 0;
+    for (Index j = 0; j < nz; ++j) {
+      VecX zp = z, zm = z;
+      zp(j) += h;
+      zm(j) -= h;
+      const VecX d = -(residual(zp, nullptr) - residual(zm, nullptr)) / (2 * h);
+      maxerr = std::max(maxerr, (d - K.k.col(j)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(maxerr, 1e-6 * K.k.cwiseAbs().maxCoeff()) << method;
+  }
+}

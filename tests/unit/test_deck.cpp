@@ -268,5 +268,6 @@ TEST(Deck, ContactMasterAutoAndRuleWarning) {
   ASSERT_TRUE(rm.contacts[0].rigid);
   EXPECT_NEAR(rm.contacts[0].obstacle.normal.y(), 1, 1e-15);
   ASSERT_EQ(rm.steps[0].obstacles.size(), 1u);
-  EXPECT_NEAR(rm.steps[0].obstacles[0].end.y(), 0.5, 1e-15);
+  ASSERT_TRUE(rm.steps[0].obstacles[0].u[1].has_value());
+  EXPECT_NEAR(*rm.steps[0].obstacles[0].u[1], 0.5, 1e-15);
 }

@@ -18,7 +18,8 @@ struct Constraint {
   Real gap = 0;
   Vec3 normal = Vec3::Zero();
   std::vector<Index> nodes;  // slave, then master nodes
-  VecX grad;                 // d gap / d x (dim per node)
+  std::vector<Index> extra_dofs;  // unknowns after the nodes' (a rigid obstacle's displacement)
+  VecX grad;                 // d gap / d x (dim per node, then the extra DOFs)
   MatX hess;                 // d2 gap / d x2
 };
 

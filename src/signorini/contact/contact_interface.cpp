@@ -156,6 +156,7 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
       }
     }
     if (uses_multipliers()) g.push_back(offset_ + static_cast<Index>(j));
+    for (int d = 0; d < num_obstacle_dofs(); ++d) g.push_back(obstacle_dofs_ + d);
     out.push_back(std::move(g));
   }
 }
@@ -170,8 +171,12 @@ void ContactInterface::begin_increment() {
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
                                 GlobalMatrix* K) {
-  if (s_.rigid)
-    rigid_obstacle_constraints(s_.obstacle, offset_rigid_, slave_, x, dim_, std::max(dmax_, 1e-300), constraints_);
+  if (s_.rigid) {
+    Vec3 offset = Vec3::Zero();
+    for (int d = 0; d < dim_; ++d) offset(d) = z(obstacle_dofs_ + d);
+    rigid_obstacle_constraints(s_.obstacle, offset, obstacle_dofs_, slave_, x, dim_, std::max(dmax_, 1e-300),
+                               constraints_);
+  }
   else if (s_.discretization == "node_to_node")
     node_to_node(slave_, candidate_, nts_normal_, x, dim_, constraints_);
   else

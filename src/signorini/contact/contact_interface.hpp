@@ -42,9 +42,11 @@ class ContactInterface {
   const std::vector<Real>& stiffness() const { return stiffness_; }
   bool update_each_iteration() const { return s_.update == "iteration"; }
   bool rigid() const { return s_.rigid; }
-  // Displacement of a rigid obstacle from its deck position.
-  void set_obstacle_offset(const Vec3& o) { offset_rigid_ = o; }
-  const Vec3& obstacle_offset() const { return offset_rigid_; }
+  // A rigid obstacle's displacement from its deck position is `dim` unknowns of their own,
+  // numbered from `first` (prescribed, loaded by a force, or held by the analysis).
+  Index num_obstacle_dofs() const { return s_.rigid ? dim_ : 0; }
+  void set_obstacle_dofs(Index first) { obstacle_dofs_ = first; }
+  Index obstacle_dofs() const { return obstacle_dofs_; }
 
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
@@ -104,7 +106,7 @@ class ContactInterface {
   std::vector<int> flips_;
   std::vector<signed char> forced_;
   Index frozen_reported_ = 0;
-  Vec3 offset_rigid_ = Vec3::Zero();
+  Index obstacle_dofs_ = -1;
   std::vector<Real> shift_, shift_committed_;  // augmented Lagrangian multipliers
   Real dmax_ = 0;
 };

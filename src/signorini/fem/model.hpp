@@ -24,23 +24,24 @@ struct DirichletCondition {
   std::string where;  // deck location
 };
 
-enum class LoadKind { nodal_force, traction, pressure, body_force };
+enum class LoadKind { nodal_force, traction, pressure, body_force, obstacle_force };
 
 // A load, ramped over its step from the value it had at the end of the previous step
 // (loads not listed in a step are removed, ramped to zero).
 struct Load {
   LoadKind kind = LoadKind::nodal_force;
-  std::string set;        // node set, facet set, or body name (body force)
+  std::string set;        // node set, facet set, body name (body force) or contact pair (obstacle force)
   Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
   Real pressure = 0;
   std::string where;
 };
 
-// A prescribed displacement of a rigid obstacle, ramped over the step like a Dirichlet value.
+// Prescribed displacement components of a rigid obstacle (absent: not prescribed), ramped
+// over the step like Dirichlet values from where the obstacle is when the step begins.
+// Components neither prescribed nor loaded by an obstacle force are held where they are.
 struct ObstacleMotion {
   std::string pair;
-  std::optional<Vec3> start;
-  Vec3 end = Vec3::Zero();
+  std::optional<Real> u[3];
 };
 
 struct Step {

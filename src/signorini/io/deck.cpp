@@ -268,8 +268,12 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         bool found = false;
         for (auto& cp : m.contacts) found = found || (cp.name == om.pair && cp.rigid);
         if (!found) b.child("contact").fail("no contact pair with a rigid obstacle named '" + om.pair + "'");
-        if (!b.has("u")) b.fail("a rigid obstacle moves by 'u: [...]'");
-        om.end = b.child("u").vector(dim);
+        if (!b.has("u")) b.fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free)");
+        Node u = b.child("u");
+        u.expect_list();
+        if (static_cast<int>(u.node.size()) != dim) u.fail("expected " + std::to_string(dim) + " components");
+        for (int c = 0; c < dim; ++c)
+          if (!u.at(c).node.IsNull()) om.u[c] = u.at(c).as_number();
         step.obstacles.push_back(om);
         continue;
       }
@@ -314,7 +318,15 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       int kinds = 0;
       for (auto k : {"force", "traction", "pressure", "body_force"}) kinds += l.has(k);
       if (kinds != 1) l.fail("a load has exactly one of force, traction, pressure, body_force");
-      if (l.has("body_force")) {
+      if (l.has("contact")) {
+        if (!l.has("force") || l.has("set") || l.has("body")) l.fail("a rigid obstacle is loaded by 'force: [...]' alone");
+        load.kind = LoadKind::obstacle_force;
+        load.set = l.child("contact").as_string();
+        bool found = false;
+        for (auto& cp : m.contacts) found = found || (cp.name == load.set && cp.rigid);
+        if (!found) l.child("contact").fail("no contact pair with a rigid obstacle named '" + load.set + "'");
+        load.vector = l.child("force").vector(dim);
+      } else if (l.has("body_force")) {
         if (!l.has("body")) l.fail("body_force needs 'body: <body name>'");
         load.kind = LoadKind::body_force;
         load.set = l.child("body").as_string();

@@ -212,6 +212,7 @@ void register_deck_sections(Registry& r) {
                          "of a facet set), pressure (on a facet set, positive in compression, follower in finite "
                          "strain) or body_force (per unit reference volume of a body).",
          {opt(text("set", "node set or facet set", std::nullopt)), opt(text("body", "body name (body_force)", std::nullopt)),
+          opt(text("contact", "instead of set: a contact pair whose rigid obstacle the force pushes", std::nullopt)),
           opt(text("force", "total force vector", std::nullopt, ParamKind::vector)),
           opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
           opt(number("pressure", "pressure", std::nullopt)),

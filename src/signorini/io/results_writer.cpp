@@ -174,6 +174,13 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
   for (const auto& st : rec.contact)
     csv_ += fmt::format("{},{},{:.10g},{:.10g},contact:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
                         rec.time, rec.fraction, st.label, st.force(0), st.force(1), st.force(2));
+  for (const auto& c : a.contacts())
+    if (c->rigid()) {
+      // The force that holds or moves the obstacle along its prescribed components.
+      const Vec3 r = a.obstacle_reaction(*c);
+      csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
+                          rec.time, rec.fraction, c->settings().name, r(0), r(1), r(2));
+    }
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   write_contact_csv(a, rec);
   const bool step_end = rec.fraction >= 1.0;

@@ -95,6 +95,8 @@ Analysis::Analysis(Model& model)
       auto ci = std::make_unique<ContactInterface>(cs, model.mesh, model.settings, stiffness, pass == 1);
       ci->set_multiplier_offset(unknowns);
       unknowns += ci->num_multipliers();
+      ci->set_obstacle_dofs(unknowns);
+      unknowns += ci->num_obstacle_dofs();
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
@@ -165,6 +167,11 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
         for (auto& b : model_.bodies)
           if (b->name() == l.set) b->add_body_force(X, dofs_, l.vector, scale, fext);
         break;
+      case LoadKind::obstacle_force:
+        for (auto& c : contacts_)
+          if (c->settings().name == l.set && c->rigid())
+            for (int i = 0; i < c->num_obstacle_dofs(); ++i) fext(c->obstacle_dofs() + i) += scale * l.vector(i);
+        break;
     }
   }
 }
@@ -231,11 +238,21 @@ void Analysis::begin_step(int s) {
     }
   }
   current_loads_ = &step.loads;
-  obstacle_ramps_.clear();
-  for (const auto& om : step.obstacles)
-    for (auto& c : contacts_)
-      if (c->settings().name == om.pair)
-        obstacle_ramps_.push_back({c.get(), om.start ? *om.start : c->obstacle_offset(), om.end});
+  // Rigid obstacles: each component prescribed, loaded by a force, or held where it is.
+  for (auto& c : contacts_) {
+    if (!c->rigid()) continue;
+    bool loaded = false;
+    for (const auto& l : step.loads) loaded = loaded || (l.kind == LoadKind::obstacle_force && l.set == c->settings().name);
+    for (int i = 0; i < c->num_obstacle_dofs(); ++i) {
+      const Index dof = c->obstacle_dofs() + i;
+      std::optional<Real> value;
+      for (const auto& om : step.obstacles)
+        if (om.pair == c->settings().name && om.u[i]) value = om.u[i];
+      if (!value && loaded) continue;  // free, driven by the force
+      prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
+      constrained_[dof] = 1;
+    }
+  }
   std::vector<char> in_contact(model_.mesh.num_nodes(), 0);
   for (const auto& cs : model_.contacts)
     for (const auto* set : {&cs.master, &cs.slave})
@@ -265,7 +282,6 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
   for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
   for (auto& b : model_.bodies) b->revert();
-  for (auto& r : obstacle_ramps_) r.contact->set_obstacle_offset(r.start + lambda * (r.end - r.start));
   if (!contacts_.empty()) {
     // Detection at the start of the increment, on the predicted configuration; d_max grows
     // with the largest nodal motion of the prediction.
@@ -519,6 +535,18 @@ Vec3 Analysis::reaction_sum(const std::string& node_set) const {
       Index d = dofs_.dof(node, i);
       if (d >= 0) r(i) += reactions_(d);
     }
+  return r;
+}
+
+Vec3 Analysis::obstacle_reaction(const ContactInterface& c) const {
+  Vec3 r = Vec3::Zero();
+  for (int i = 0; i < c.num_obstacle_dofs(); ++i) r(i) = reactions_(c.obstacle_dofs() + i);
+  return r;
+}
+
+Vec3 Analysis::obstacle_displacement(const ContactInterface& c) const {
+  Vec3 r = Vec3::Zero();
+  for (int i = 0; i < c.num_obstacle_dofs(); ++i) r(i) = u_(c.obstacle_dofs() + i);
   return r;
 }
 

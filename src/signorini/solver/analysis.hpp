@@ -71,6 +71,9 @@ class Analysis {
   int current_step() const { return step_; }
   // Sum of reactions over a node set (x, y, z).
   Vec3 reaction_sum(const std::string& node_set) const;
+  // Reaction on a rigid obstacle's prescribed or held components, and its displacement.
+  Vec3 obstacle_reaction(const ContactInterface& c) const;
+  Vec3 obstacle_displacement(const ContactInterface& c) const;
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
   std::vector<std::string> reaction_sets() const;
 
@@ -107,11 +110,7 @@ class Analysis {
   std::vector<std::unique_ptr<ContactInterface>> contacts_;
   std::vector<const ElementBlock*> cells_;
   std::vector<std::vector<Index>> couplings_;
-  struct ObstacleRamp {
-    ContactInterface* contact;
-    Vec3 start, end;
-  };
-  std::vector<ObstacleRamp> obstacle_ramps_;
+
   AnalysisSummary summary_;
   std::function<void(const Analysis&, const IncrementRecord&)> observer_;
 };

@@ -2,8 +2,9 @@
 
 namespace signorini {
 
-void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, const SlaveSurface& slave,
-                                const std::vector<Vec3>& x, int dim, Real max_distance, ConstraintSet& out) {
+void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Index obstacle_dofs,
+                                const SlaveSurface& slave, const std::vector<Vec3>& x, int dim, Real max_distance,
+                                ConstraintSet& out) {
   const Index ns = static_cast<Index>(slave.nodes.size());
   out.assign(ns, Constraint{});
   for (Index j = 0; j < ns; ++j) {
@@ -37,11 +38,24 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, con
     c.kind = ConstraintKind::node;
     c.facet = -1;
     c.nodes = {c.slave};
-    c.grad.resize(dim);
-    c.hess.resize(dim, dim);
+    const int m = obstacle_dofs >= 0 ? 2 * dim : dim;
+    c.grad.resize(m);
+    c.hess.setZero(m, m);
     for (int a = 0; a < dim; ++a) {
       c.grad(a) = c.normal(a);
       for (int b = 0; b < dim; ++b) c.hess(a, b) = H(a, b);
+    }
+    if (obstacle_dofs >= 0) {
+      // g(x - offset): d/d offset = -d/dx; the Hessian has blocks [[H, -H], [-H, H]].
+      for (int a = 0; a < dim; ++a) {
+        c.extra_dofs.push_back(obstacle_dofs + a);
+        c.grad(dim + a) = -c.normal(a);
+        for (int b = 0; b < dim; ++b) {
+          c.hess(a, dim + b) = -H(a, b);
+          c.hess(dim + a, b) = -H(a, b);
+          c.hess(dim + a, dim + b) = H(a, b);
+        }
+      }
     }
   }
 }

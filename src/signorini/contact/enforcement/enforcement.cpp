@@ -11,6 +11,7 @@ void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vect
   out.clear();
   for (Index n : c.nodes)
     for (int d = 0; d < dim; ++d) out.push_back(dofs.dof(n, d));
+  out.insert(out.end(), c.extra_dofs.begin(), c.extra_dofs.end());
 }
 
 void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real scale) {
