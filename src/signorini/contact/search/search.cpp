@@ -162,13 +162,18 @@ class BucketGrid final : public ContactSearch {
       const Index k = position_[i];
       const Vec3* c = f.facet(i);
       Sphere& sp = spheres_[k];
-      sp.c = centroid_[i];
+      Vec3 cf;
+      for (int d = 0; d < 3; ++d) {
+        sp.c[d] = static_cast<float>(centroid_[i](d));
+        cf(d) = sp.c[d];
+      }
       Real r2 = 0;
       for (int j = 0; j < f.corners; ++j) {
         corner_data_[k * f.corners + j] = c[j];
-        r2 = std::max(r2, (c[j] - sp.c).squaredNorm());
+        r2 = std::max(r2, (c[j] - cf).squaredNorm());
       }
-      sp.r = std::sqrt(r2);
+      // Round the radius up: a float just above the exact value.
+      sp.r = std::nextafter(static_cast<float>(std::sqrt(r2)), std::numeric_limits<float>::infinity());
       ids_[k] = i;
     }
   }
@@ -210,7 +215,8 @@ class BucketGrid final : public ContactSearch {
           for (Index r = start_[c]; r < start_[c + 1]; ++r) {
             const Sphere& sp = spheres_[r];
             const Real reach_r = bound + sp.r;
-            if ((p - sp.c).squaredNorm() >= reach_r * reach_r) continue;
+            const Real dx = p(0) - sp.c[0], dy = p(1) - sp.c[1], dz = p(2) - sp.c[2];
+            if (dx * dx + dy * dy + dz * dz >= reach_r * reach_r) continue;
             const Real d = point_facet_distance(corner_data_.data() + r * corners_, corners_, p);
             if (d < bound || (d == bound && d < best.distance)) {
               bound = d;
@@ -237,9 +243,11 @@ class BucketGrid final : public ContactSearch {
     }
   }
 
+  // Bounding spheres in single precision (half the memory traffic of the hot loop); the
+  // radius is enlarged by a bound on the rounding of the centre, so pruning stays exact.
   struct Sphere {
-    Vec3 c;
-    Real r;
+    float c[3];
+    float r;
   };
   int corners_ = 3;
   std::vector<Sphere> spheres_;     // bounding spheres in cell order (the hot loop)
