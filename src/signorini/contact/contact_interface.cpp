@@ -53,7 +53,6 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   };
   const Real h = mean_edge(s_.slave);
   mean_master_edge_ = s_.rigid ? h : mean_edge(s_.master);
-  (void)h;
   const Index n = static_cast<Index>(slave_.nodes.size());
   // Local facet size of each slave node (mean length of the edges of its facets): the
   // automatic penalty and gap tolerance follow the mesh where the node is, so graded meshes

@@ -361,7 +361,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
 
 // Mean facet edge length of a facet set and the stiffness of the body that owns it.
 struct SurfaceInfo {
-  Real mean_edge = 0;
+  Real median_edge = 0;
   Real stiffness = 0;
   std::string body;
 };
@@ -380,7 +380,7 @@ SurfaceInfo surface_info(const Model& m, const std::string& set) {
   }
   if (!edges.empty()) {
     std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
-    info.mean_edge = edges[edges.size() / 2];
+    info.median_edge = edges[edges.size() / 2];
   }
   for (auto& body : m.bodies)
     for (auto& blk : body->blocks())
@@ -460,9 +460,8 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       const std::string a = facet_set(sf.at(0)), b = facet_set(sf.at(1));
       const SurfaceInfo ia = surface_info(m, a), ib = surface_info(m, b);
       // The finer surface is slave; at about equal density the stiffer body is master.
-      bool a_slave = ia.mean_edge < 0.83 * ib.mean_edge ||
-                     (ia.mean_edge <= 1.2 * ib.mean_edge && ib.mean_edge <= 1.2 * ia.mean_edge && ia.stiffness <= ib.stiffness);
-      if (ib.mean_edge < 0.83 * ia.mean_edge) a_slave = false;
+      bool a_slave = ia.median_edge < 0.83 * ib.median_edge ||
+                     (ia.median_edge <= 1.2 * ib.median_edge && ib.median_edge <= 1.2 * ia.median_edge && ia.stiffness <= ib.stiffness);
       cs.slave = a_slave ? a : b;
       cs.master = a_slave ? b : a;
       log::info("contact '{}': master: auto chose slave '{}' and master '{}'", cs.name, cs.slave, cs.master);
@@ -474,12 +473,12 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (cs.master == cs.slave) c.child("slave").fail("master and slave are the same facet set (self-contact is not "
                                                        "available yet)");
       const SurfaceInfo im = surface_info(m, cs.master), is = surface_info(m, cs.slave);
-      if (is.mean_edge > 1.2 * im.mean_edge)
+      if (is.median_edge > 1.2 * im.median_edge)
         log::warning("{}: contact '{}': the slave surface '{}' (median facet size {:.3g}) is coarser than the master "
                      "'{}' ({:.3g}); master nodes may then penetrate the slave. Make the finer surface slave, use "
                      "master: auto, or passes: 2.",
-                     cs.where, cs.name, cs.slave, is.mean_edge, cs.master, im.mean_edge);
-      else if (is.mean_edge >= 0.83 * im.mean_edge && is.stiffness > 1.5 * im.stiffness)
+                     cs.where, cs.name, cs.slave, is.median_edge, cs.master, im.median_edge);
+      else if (is.median_edge >= 0.83 * im.median_edge && is.stiffness > 1.5 * im.stiffness)
         log::warning("{}: contact '{}': at about equal mesh density the less deformable body should be master, but the "
                      "slave '{}' (E = {:g}) is stiffer than the master '{}' (E = {:g}).",
                      cs.where, cs.name, cs.slave, is.stiffness, cs.master, im.stiffness);
