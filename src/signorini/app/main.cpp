@@ -71,10 +71,11 @@ int run(const std::string& deck, const std::string& outdir, bool check_only) {
                  s.increments.back().time, dir, writer.pvd_path());
     return 2;
   }
-  fmt::print("Solved '{}': {} steps, {} increments, {} Newton iterations, {:.2f} s (assembly {:.2f} s, linear solve "
+  fmt::print("Solved '{}': {} steps, {} increments, {} Newton iterations, {:.2f} s (assembly {:.2f} s, {}linear solve "
              "{:.2f} s), peak memory {:.0f} MiB\n",
              model.title, model.steps.size(), s.increments.size(), s.total_iterations, s.total_seconds,
-             s.assembly_seconds, s.solve_seconds, log::peak_memory_mib());
+             s.assembly_seconds, model.contacts.empty() ? std::string() : fmt::format("contact {:.2f} s, ", s.contact_seconds),
+             s.solve_seconds, log::peak_memory_mib());
   bool all = true;
   if (!checks.empty()) {
     fmt::print("\nComparison with the reference:\n");

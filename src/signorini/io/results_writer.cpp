@@ -278,8 +278,9 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   j += fmt::format("  \"nodes\": {},\n  \"cells\": {},\n  \"dofs\": {},\n", m.mesh.num_nodes(), m.mesh.num_cells(),
                    a.dofs().num_dofs());
   j += fmt::format("  \"total_iterations\": {},\n", s.total_iterations);
-  j += fmt::format("  \"timings\": {{\"assembly_s\": {}, \"linear_solve_s\": {}, \"total_s\": {}}},\n",
-                   json_number(s.assembly_seconds), json_number(s.solve_seconds), json_number(log::elapsed()));
+  j += fmt::format("  \"timings\": {{\"assembly_s\": {}, \"contact_s\": {}, \"linear_solve_s\": {}, \"total_s\": {}}},\n",
+                   json_number(s.assembly_seconds), json_number(s.contact_seconds), json_number(s.solve_seconds),
+                   json_number(log::elapsed()));
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
   j += "  \"increments\": [";
   for (size_t i = 0; i < s.increments.size(); ++i) {

@@ -178,6 +178,7 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
 
 Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   log::Timer t;
+  double contact_time = 0;
   const Index n = num_unknowns();
   VecX fint = VecX::Zero(n), fext = VecX::Zero(n), fc = VecX::Zero(n);
   for (int attempt = 0;; ++attempt) {
@@ -189,11 +190,13 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);
     if (!contacts_.empty()) {
+      log::Timer tc;
       const std::vector<Vec3> x = positions(u_);
       for (auto& c : contacts_) {
         if (c->update_each_iteration()) c->detect(x, 0);
         c->assemble(x, u_, dofs_, fc, tangent ? &system_ : nullptr);
       }
+      contact_time += tc.seconds();
     }
     // A contact constraint outside the pattern (the search moved, or sliding went beyond
     // the neighbourhood): rebuild the pattern with the current couplings and assemble again.
@@ -214,7 +217,8 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       reactions_(i) = 0;
     }
   if (tangent) system_.apply_dirichlet(constrained_, system_.mean_abs_diagonal());
-  summary_.assembly_seconds += t.seconds();
+  summary_.contact_seconds += contact_time;
+  summary_.assembly_seconds += t.seconds() - contact_time;
   return std::max({fint.norm(), fext.norm(), fc.norm()});
 }
 
@@ -297,8 +301,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         step = std::max(step, std::sqrt(m2));
       }
     for (auto& c : contacts_) c->begin_increment();
+    log::Timer tc;
     detect_contact(step);
     rebuild_pattern();
+    summary_.contact_seconds += tc.seconds();
   }
   VecX R, du, Rtrial;
   rec.residuals.clear();

@@ -44,6 +44,7 @@ struct AnalysisSummary {
   std::vector<IncrementRecord> increments;
   int total_iterations = 0;
   double assembly_seconds = 0, solve_seconds = 0, total_seconds = 0;
+  double contact_seconds = 0;  // detection, constraints and enforcement (not in assembly_seconds)
 };
 
 class Analysis {
