@@ -92,11 +92,14 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name) {
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
   std::string want = choice_;
   if (want == "auto")
-    want = !symmetric ? "umfpack" : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
+    want = !symmetric || spd_failed_ ? "umfpack"
+                                     : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
   if (!solver_ || solver_->name() != want) solver_ = make_linear_solver(want);
   if (solver_->factorize(a) && solver_->solve(b, x)) return;
   if (choice_ == "auto" && want != "umfpack") {
-    // Not positive definite (instability, or an unsymmetric part): LU instead.
+    // Not positive definite (an instability, or contact's geometric term): LU instead, and
+    // from now on, rather than paying for a failed factorization at every iteration.
+    spd_failed_ = true;
     solver_ = make_linear_solver("umfpack");
     if (solver_->factorize(a) && solver_->solve(b, x)) return;
   }

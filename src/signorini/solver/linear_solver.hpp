@@ -42,6 +42,7 @@ class AutoLinearSolver {
  private:
   std::string choice_;
   bool three_d_;
+  bool spd_failed_ = false;  // Cholesky or CG failed once: the tangent is not SPD, go to LU
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };

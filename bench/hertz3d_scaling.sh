@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Hertz 3D quarter model (examples/hertz_sphere_3d) at increasing size: DOFs, Newton
+# iterations, wall time split into assembly / contact / linear solve, peak memory, and the
+# errors against Hertz. Usage: bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$here/build}"
+shift || true
+sizes=("$@")
+[ ${#sizes[@]} -gt 0 ] || sizes=(0.02 0.015 0.012 0.01 0.008)
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+printf "%-7s %8s %6s %9s %9s %9s %9s %9s %8s %8s\n" hc dofs iters total_s assemb_s contact_s solve_s mem_MiB p0_err a_err
+for hc in "${sizes[@]}"; do
+  sed -e "s|hc: [0-9.]*|hc: $hc|" -e "s|file: hertz_sphere_3d.geo|file: $here/examples/hertz_sphere_3d/hertz_sphere_3d.geo|" \
+    "$here/examples/hertz_sphere_3d/hertz_sphere_3d.yaml" > "$work/deck.yaml"
+  "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
+  s="$work/out/summary.json"
+  get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
+  errs=$(grep -o '"error": [^,]*' "$s" | sed 's/.*: //' | head -2 | tr '\n' ' ')
+  printf "%-7s %8s %6s %9.2f %9.2f %9.2f %9.2f %9.0f %8.4f %8.4f\n" "$hc" "$(get dofs)" "$(get total_iterations)" \
+    "$(get total_s)" "$(get assembly_s)" "$(get contact_s)" "$(get linear_solve_s)" "$(get peak_memory_mib)" $errs
+done
