@@ -39,17 +39,10 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   enforcement_ = make_enforcement(s_.method);
   // Mean edge of the slave and master surfaces (reference configuration).
   auto mean_edge = [&](const std::string& set) {
+    const std::vector<Real> edges = facet_edge_lengths(mesh.facet_sets.at(set), mesh.nodes);
     Real sum = 0;
-    Index count = 0;
-    for (const ElementBlock& b : mesh.facet_sets.at(set)) {
-      const int nc = element_info(b.type).num_corners;
-      for (Index e = 0; e < b.size(); ++e)
-        for (int k = 0; k < (nc == 2 ? 1 : nc); ++k) {
-          sum += (mesh.nodes[b.element(e)[(k + 1) % nc]] - mesh.nodes[b.element(e)[k]]).norm();
-          ++count;
-        }
-    }
-    return count ? sum / count : 1.0;
+    for (Real l : edges) sum += l;
+    return edges.empty() ? 1.0 : sum / static_cast<Real>(edges.size());
   };
   const Real h = mean_edge(s_.slave);
   mean_master_edge_ = s_.rigid ? h : mean_edge(s_.master);

@@ -213,6 +213,14 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
 
 std::string component_name(int c) { return std::string(1, "xyz"[c]); }
 
+// The contact pair with a rigid obstacle named by the node's value.
+std::string rigid_pair_named(const Node& n, const Model& m) {
+  const std::string name = n.as_string();
+  for (auto& cp : m.contacts)
+    if (cp.name == name && cp.rigid) return name;
+  n.fail("no contact pair with a rigid obstacle named '" + name + "'");
+}
+
 // The facet set named by the node's value; an error lists the facet sets there are.
 std::string facet_set_named(const Node& n, const Mesh& mesh) {
   const std::string set = n.as_string();
@@ -264,10 +272,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       if (b.has("contact")) {
         if (b.has("set")) b.fail("a boundary entry has either 'set' or 'contact'");
         ObstacleMotion om;
-        om.pair = b.child("contact").as_string();
-        bool found = false;
-        for (auto& cp : m.contacts) found = found || (cp.name == om.pair && cp.rigid);
-        if (!found) b.child("contact").fail("no contact pair with a rigid obstacle named '" + om.pair + "'");
+        om.pair = rigid_pair_named(b.child("contact"), m);
         if (!b.has("u")) b.fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free)");
         Node u = b.child("u");
         u.expect_list();
@@ -321,10 +326,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       if (l.has("contact")) {
         if (!l.has("force") || l.has("set") || l.has("body")) l.fail("a rigid obstacle is loaded by 'force: [...]' alone");
         load.kind = LoadKind::obstacle_force;
-        load.set = l.child("contact").as_string();
-        bool found = false;
-        for (auto& cp : m.contacts) found = found || (cp.name == load.set && cp.rigid);
-        if (!found) l.child("contact").fail("no contact pair with a rigid obstacle named '" + load.set + "'");
+        load.set = rigid_pair_named(l.child("contact"), m);
         load.vector = l.child("force").vector(dim);
       } else if (l.has("body_force")) {
         if (!l.has("body")) l.fail("body_force needs 'body: <body name>'");
@@ -368,16 +370,11 @@ struct SurfaceInfo {
 SurfaceInfo surface_info(const Model& m, const std::string& set) {
   // The median edge length: on graded meshes the mean is dominated by the coarse far field.
   SurfaceInfo info;
-  std::vector<Real> edges;
+  const auto& facets = m.mesh.facet_sets.at(set);
+  std::vector<Real> edges = facet_edge_lengths(facets, m.mesh.nodes);
   Index any = -1;
-  for (const ElementBlock& b : m.mesh.facet_sets.at(set)) {
-    const int nc = element_info(b.type).num_corners;
-    for (Index e = 0; e < b.size(); ++e) {
-      any = b.element(e)[0];
-      for (int k = 0; k < (nc == 2 ? 1 : nc); ++k)
-        edges.push_back((m.mesh.nodes[b.element(e)[(k + 1) % nc]] - m.mesh.nodes[b.element(e)[k]]).norm());
-    }
-  }
+  for (const ElementBlock& b : facets)
+    if (b.size()) any = b.element(b.size() - 1)[0];
   if (!edges.empty()) {
     std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
     info.median_edge = edges[edges.size() / 2];

@@ -43,6 +43,16 @@ void Mesh::complete_node_sets() {
   for (auto& [n, b] : facet_sets) add(n, b);
 }
 
+std::vector<Real> facet_edge_lengths(const std::vector<ElementBlock>& facets, const std::vector<Vec3>& nodes) {
+  std::vector<Real> out;
+  for (const ElementBlock& b : facets) {
+    const int nc = element_info(b.type).num_corners;
+    for (Index e = 0; e < b.size(); ++e)
+      for (int k = 0; k < (nc == 2 ? 1 : nc); ++k) out.push_back((nodes[b.element(e)[(k + 1) % nc]] - nodes[b.element(e)[k]]).norm());
+  }
+  return out;
+}
+
 namespace {
 
 // Jacobian determinant of a cell at reference point xi (dim x dim block of dX/dxi).

@@ -40,6 +40,9 @@ struct Mesh {
   void complete_node_sets();
 };
 
+// Lengths of the corner edges of every facet of a facet set (a line facet has one edge).
+std::vector<Real> facet_edge_lengths(const std::vector<ElementBlock>& facets, const std::vector<Vec3>& nodes);
+
 // Reports of the mesh check.
 struct MeshCheck {
   std::vector<Index> inverted;    // element ids with a non-positive Jacobian somewhere
