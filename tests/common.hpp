@@ -22,6 +22,21 @@ class DenseMatrix final : public GlobalMatrix {
   MatX k;
 };
 
+// Largest difference between the columns of K and -dR/dz by central differences, where
+// `residual(z)` returns R; K is the tangent -dR/dz.
+template <typename Residual>
+Real central_difference_error(const Residual& residual, const VecX& z, const MatX& K, Real h) {
+  Real err = 0;
+  for (Index j = 0; j < z.size(); ++j) {
+    VecX zp = z, zm = z;
+    zp(j) += h;
+    zm(j) -= h;
+    const VecX d = -(residual(zp) - residual(zm)) / (2 * h);
+    err = std::max(err, (d - K.col(j)).cwiseAbs().maxCoeff());
+  }
+  return err;
+}
+
 inline std::vector<const ElementBlock*> cells_of(const Body& b) {
   std::vector<const ElementBlock*> v;
   for (auto& blk : b.blocks()) v.push_back(&blk);

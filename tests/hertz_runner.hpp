@@ -16,13 +16,34 @@ namespace signorini::test {
 struct HertzRun {
   std::vector<CheckResult> checks;
   AnalysisSummary summary;
+  Vec3 obstacle_displacement = Vec3::Zero();  // of the last rigid obstacle, if any
 };
 
 // `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
+// Writes a deck to a temporary file of its own (tests run in parallel processes), reads it,
+// solves it and evaluates its checks.
+inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) {
+  namespace fs = std::filesystem;
+  log::set_level(log::Level::warning);
+  static int counter = 0;
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + stem + "_" + std::to_string(::getpid()) + "_" +
+                                                     std::to_string(counter++) + ".yaml");
+  std::ofstream(tmp) << deck;
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  Analysis a(m);
+  HertzRun out;
+  out.summary = a.run();
+  out.checks = evaluate_checks(a);
+  for (auto& c : a.contacts())
+    if (c->rigid()) out.obstacle_displacement = a.obstacle_displacement(*c);
+  fs::remove(tmp);
+  return out;
+}
+
 // `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}".
 inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "") {
   namespace fs = std::filesystem;
-  log::set_level(log::Level::warning);
   const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
   std::ifstream in(src);
   std::stringstream ss;
@@ -38,19 +59,7 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
   // The temporary deck lives elsewhere: make the mesh path absolute.
   const size_t f = deck.find("file: ") + 6;
   deck.insert(f, (src.parent_path() / "").string());
-  // A name of its own: tests run in parallel processes.
-  static int counter = 0;
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + example + "_" + std::to_string(::getpid()) + "_" +
-                                                     std::to_string(counter++) + ".yaml");
-  std::ofstream(tmp) << deck;
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  Analysis a(m);
-  HertzRun out;
-  out.summary = a.run();
-  out.checks = evaluate_checks(a);
-  fs::remove(tmp);
-  return out;
+  return run_deck_text(deck, example);
 }
 
 // Convergence order from the last three residuals above round-off.

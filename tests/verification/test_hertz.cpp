@@ -67,10 +67,11 @@ TEST(Hertz, DetectionAtEveryIterationGivesTheSameAnswer) {
     EXPECT_NEAR(it.checks[k].computed, inc.checks[k].computed, 1e-6 * std::abs(inc.checks[k].computed)) << k;
 }
 
-TEST(Hertz, RigidCylinderPushedIntoABlock) {
-  // A rigid roller (R = 10 mm) pushed 3 um into a steel block by a prescribed displacement,
-  // plane strain, half model. Hertz (Johnson 1985, ch. 4) with E* = E/(1-nu^2) and the
-  // measured force P gives a = sqrt(4PR/(pi E*)) and p0 = 2P/(pi a).
+namespace {
+// A rigid roller (R = 10 mm, centre (0, 10)) on the steel block of the Hertz example, plane
+// strain, half model; `motion` holds the roller's boundary (and load) entries, `checks` the
+// deck's checks.
+test::HertzRun run_roller(const std::string& motion, const std::string& checks) {
   namespace fs = std::filesystem;
   const fs::path geo = fs::path(SIGNORINI_SOURCE_DIR) / "examples/hertz_cylinder/hertz_cylinder.geo";
   const std::string deck = "analysis: {dimension: plane_strain}\n"
@@ -83,21 +84,23 @@ TEST(Hertz, RigidCylinderPushedIntoABlock) {
                            "  - name: push\n"
                            "    boundary:\n"
                            "      - {set: BlockBottom, uy: 0}\n"
-                           "      - {set: BlockAxis, ux: 0}\n"
-                           "      - {contact: roller, u: [0, -0.003]}\n"
-                           "checks:\n"
-                           "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1}\n"
-                           "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 1}\n"
-                           "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: 1}\n";
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_rigid_roller_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << deck;
-  log::set_level(log::Level::warning);
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  Analysis an(m);
-  AnalysisSummary sum = an.run();
-  ASSERT_TRUE(sum.completed) << sum.failure;
-  auto checks = evaluate_checks(an);
+                           "      - {set: BlockAxis, ux: 0}\n" +
+                           motion + "checks:\n" + checks;
+  return test::run_deck_text(deck, "rigid_roller");
+}
+}  // namespace
+
+TEST(Hertz, RigidCylinderPushedIntoABlock) {
+  // The roller pushed 3 um into the block by a prescribed displacement. Hertz (Johnson 1985,
+  // ch. 4) with E* = E/(1-nu^2) and the measured force P gives a = sqrt(4PR/(pi E*)) and
+  // p0 = 2P/(pi a).
+  test::HertzRun r = run_roller(
+      "      - {contact: roller, u: [0, -0.003]}\n",
+      "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1}\n"
+      "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 1}\n"
+      "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: 1}\n");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  const auto& checks = r.checks;
   const Real P = 2 * std::abs(checks[2].computed);  // the whole roller
   const Real Es = 210000 / (1 - 0.09), R = 10;
   const Real a = std::sqrt(4 * P * R / (M_PI * Es)), p0 = 2 * P / (M_PI * a);
@@ -109,45 +112,24 @@ TEST(Hertz, RigidCylinderPushedIntoABlock) {
 }
 
 TEST(Hertz, RigidRollerDrivenByAForce) {
-  // The rigid roller of the previous test pushed by a force instead: P = 200 N/mm on the
-  // whole roller (100 on the half model), its x motion prescribed (symmetry). Hertz with
-  // E* = E/(1-nu^2) = 230769 MPa, R = 10 mm: a = 0.105046 mm, p0 = 1212.1 MPa.
-  namespace fs = std::filesystem;
-  const fs::path geo = fs::path(SIGNORINI_SOURCE_DIR) / "examples/hertz_cylinder/hertz_cylinder.geo";
-  const std::string deck = "analysis: {dimension: plane_strain}\n"
-                           "mesh: {file: " + geo.string() + ", parameters: {hc: 0.004, zone: 0.15}}\n"
-                           "materials: {steel: {model: linear_elastic, E: 210000, nu: 0.3}}\n"
-                           "bodies: [{name: block, region: Block, material: steel}]\n"
-                           "contact:\n"
-                           "  - {name: roller, master: {rigid: cylinder, center: [0, 10], radius: 10}, slave: BlockTop}\n"
-                           "steps:\n"
-                           "  - name: push\n"
-                           "    boundary:\n"
-                           "      - {set: BlockBottom, uy: 0}\n"
-                           "      - {set: BlockAxis, ux: 0}\n"
-                           "      - {contact: roller, u: [0, ~]}\n"
-                           "    loads:\n"
-                           "      - {contact: roller, force: [0, -100]}\n"
-                           "checks:\n"
-                           "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1212.1, tolerance: 0.02}\n"
-                           "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 0.105046, tolerance: 0.03}\n"
-                           "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: -100, tolerance: 1e-4}\n";
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_roller_force_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << deck;
-  log::set_level(log::Level::warning);
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  Analysis an(m);
-  AnalysisSummary sum = an.run();
-  ASSERT_TRUE(sum.completed) << sum.failure;
-  auto checks = evaluate_checks(an);
-  for (auto& c : checks) {
+  // The roller pushed by a force instead: P = 200 N/mm on the whole roller (100 on the half
+  // model), its x motion prescribed (symmetry). Hertz with E* = E/(1-nu^2) = 230769 MPa,
+  // R = 10 mm: a = 0.105046 mm, p0 = 1212.1 MPa.
+  test::HertzRun r = run_roller(
+      "      - {contact: roller, u: [0, ~]}\n"
+      "    loads:\n"
+      "      - {contact: roller, force: [0, -100]}\n",
+      "  - {name: p0, quantity: contact_pressure_max, pair: roller, expected: 1212.1, tolerance: 0.02}\n"
+      "  - {name: a, quantity: contact_half_width, pair: roller, at: [0, 0], component: x, expected: 0.105046, "
+      "tolerance: 0.03}\n"
+      "  - {name: F, quantity: contact_force, pair: roller, component: y, expected: -100, tolerance: 1e-4}\n");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  for (auto& c : r.checks) {
     std::printf("rigid roller by force: %s = %.6g (Hertz %.6g), error %.3f %%\n", c.check.name.c_str(), c.computed,
                 c.check.expected, 100 * c.error);
     EXPECT_TRUE(c.pass) << c.check.name;
   }
   // The roller moved down, and its x motion stayed at the prescribed 0.
-  const Vec3 d = an.obstacle_displacement(*an.contacts()[0]);
-  EXPECT_LT(d(1), 0);
-  EXPECT_EQ(d(0), 0);
+  EXPECT_LT(r.obstacle_displacement(1), 0);
+  EXPECT_EQ(r.obstacle_displacement(0), 0);
 }
