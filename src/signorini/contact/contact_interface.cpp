@@ -226,10 +226,31 @@ std::vector<ContactInterface::SlaveState> ContactInterface::slave_states() const
     if (c.slave < 0) continue;
     const bool has = c.kind != ConstraintKind::none;
     const bool closed = j < state_.active.size() && state_.active[j];
-    out.push_back({c.slave, !has ? 0 : (closed ? 2 : 1), has ? c.gap : std::numeric_limits<Real>::quiet_NaN(),
-                   j < state_.pressure.size() ? state_.pressure[j] : 0.0});
+    const Real p = j < reported_pressure_.size() ? reported_pressure_[j]
+                   : j < state_.pressure.size()  ? state_.pressure[j]
+                                                 : 0.0;
+    out.push_back({c.slave, !has ? 0 : (closed ? 2 : 1), has ? c.gap : std::numeric_limits<Real>::quiet_NaN(), p});
   }
   return out;
+}
+
+void ContactInterface::add_nodal_forces(std::vector<Vec3>& f) const {
+  for (size_t j = 0; j < constraints_.size() && j < state_.pressure.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    if (c.kind == ConstraintKind::none || state_.pressure[j] == 0) continue;
+    const Real lambda = state_.pressure[j] * c.weight;
+    for (size_t k = 0; k < c.nodes.size(); ++k)
+      for (int d = 0; d < dim_; ++d) f[c.nodes[k]](d) += lambda * c.grad(static_cast<Index>(k) * dim_ + d);
+  }
+}
+
+void ContactInterface::set_reported_pressure(const std::vector<Vec3>& nodal_force) {
+  reported_pressure_.assign(constraints_.size(), 0.0);
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    if (c.kind == ConstraintKind::none || c.weight <= 0) continue;
+    reported_pressure_[j] = nodal_force[c.slave].dot(c.normal) / c.weight;
+  }
 }
 
 Real ContactInterface::gap_tolerance() const {

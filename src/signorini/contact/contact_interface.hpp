@@ -80,6 +80,14 @@ class ContactInterface {
     Real pressure;  // positive in compression
   };
   std::vector<SlaveState> slave_states() const;
+  // Adds the force each constraint puts on its nodes (its multiplier, or penalty force, times
+  // the gap gradient) to f, indexed by mesh node.
+  void add_nodal_forces(std::vector<Vec3>& f) const;
+  // The pressure reported for output: the normal contact force on each slave node from all the
+  // constraints of its pair (both passes of a two-pass pair), per unit tributary area. With one
+  // pass this is the multiplier per area; with two passes a node also carries the other pass's
+  // constraints as a master node, and the multipliers alone split the pressure between passes.
+  void set_reported_pressure(const std::vector<Vec3>& nodal_force);
 
   const SlaveSurface& slave() const { return slave_; }
   const ConstraintSet& constraints() const { return constraints_; }
@@ -108,6 +116,7 @@ class ContactInterface {
   Index frozen_reported_ = 0;
   Index obstacle_dofs_ = -1;
   std::vector<Real> shift_, shift_committed_;  // augmented Lagrangian multipliers
+  std::vector<Real> reported_pressure_;        // per slave node, see set_reported_pressure
   Real dmax_ = 0;
 };
 

@@ -121,6 +121,17 @@ std::vector<Vec3> Analysis::positions(const VecX& u) const {
   return x;
 }
 
+void Analysis::report_contact_pressures() {
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    if (i > 0 && contacts_[i - 1]->settings().name == contacts_[i]->settings().name) continue;  // done with pass 1
+    std::vector<Vec3> f(model_.mesh.num_nodes(), Vec3::Zero());
+    size_t end = i;
+    while (end < contacts_.size() && contacts_[end]->settings().name == contacts_[i]->settings().name)
+      contacts_[end++]->add_nodal_forces(f);
+    for (size_t k = i; k < end; ++k) contacts_[k]->set_reported_pressure(f);
+  }
+}
+
 void Analysis::detect_contact(Real max_step) {
   if (contacts_.empty()) return;
   const std::vector<Vec3> x = positions(u_);
@@ -508,6 +519,7 @@ AnalysisSummary Analysis::run_steps() {
       u_converged_ = u_;
       for (auto& b : model_.bodies) b->commit();
       for (auto& c : contacts_) rec.contact.push_back(c->commit());
+      report_contact_pressures();
       rec.fraction = lambda;
       rec.time = s + lambda;
       rec.cutbacks = cutbacks;

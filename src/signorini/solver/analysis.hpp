@@ -89,6 +89,8 @@ class Analysis {
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();
   void detect_contact(Real max_step);
+  // Output pressures from the nodal contact forces of each pair (both passes together).
+  void report_contact_pressures();
   // Rebuilds the sparse pattern from the cells and the contact couplings.
   void rebuild_pattern();
   void begin_step(int s);
