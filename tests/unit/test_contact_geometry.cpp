@@ -1,6 +1,6 @@
 // Contact geometry: closest-point projection on every facet type (inside, outside, curved
 // facets), and the gap's first and second variations and the parameter's first variation
-// against central differences of a fresh projection.
+// and second variations against central differences of a fresh projection.
 #include <gtest/gtest.h>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
@@ -107,6 +107,48 @@ TEST_P(ContactGeometry, VariationsMatchCentralDifferences) {
   EXPECT_LT(err_h, 1e-6 * std::max(1.0, hess.cwiseAbs().maxCoeff())) << what << ": gap Hessian";
   EXPECT_LT((hess - hess.transpose()).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, hess.cwiseAbs().maxCoeff()))
       << what << ": Hessian is not symmetric";
+}
+
+// The parameters' second variation (the tangent of the tangential slip needs it): central
+// differences of the analytic first variation at fresh projections.
+TEST_P(ContactGeometry, ParameterSecondVariationMatchesCentralDifferences) {
+  const GeoCase c = GetParam();
+  const int dim = c.dim;
+  auto x = facet_nodes(c.type, dim);
+  Vec3 p = interior_target(c.type, dim, x, c.height);
+  FacetProjection fp = project_on_facet(c.type, x, p, dim);
+  ASSERT_TRUE(fp.converged);
+  MatX dxi;
+  std::vector<MatX> d2xi;
+  parameter_variations(c.type, x, fp, dim, dxi, d2xi);
+  VecX grad;
+  MatX hess, dxi_gap;
+  gap_variations(c.type, x, fp, dim, grad, hess, &dxi_gap);
+  EXPECT_LT((dxi - dxi_gap).cwiseAbs().maxCoeff(), 1e-12) << "the two first variations differ";
+  const int n = static_cast<int>(dxi.rows());
+  const Real h = 1e-6;
+  Real err = 0, scale = 1;
+  for (auto& m : d2xi) scale = std::max(scale, m.cwiseAbs().maxCoeff());
+  for (int k = 0; k < n; ++k) {
+    MatX dp, dm;
+    std::vector<MatX> tmp;
+    for (Real sgn : {1.0, -1.0}) {
+      auto xx = x;
+      Vec3 pp = p;
+      const int node = k / dim, comp = k % dim;
+      if (node == 0) pp(comp) += sgn * h;
+      else xx[node - 1](comp) += sgn * h;
+      FacetProjection f2 = project_on_facet(c.type, xx, pp, dim);
+      ASSERT_TRUE(f2.converged);
+      parameter_variations(c.type, xx, f2, dim, sgn > 0 ? dp : dm, tmp);
+    }
+    for (int b = 0; b < dim - 1; ++b)
+      err = std::max(err, ((dp.col(b) - dm.col(b)) / (2 * h) - d2xi[b].col(k)).cwiseAbs().maxCoeff());
+  }
+  const std::string what = element_info(c.type).name;
+  EXPECT_LT(err, 1e-6 * scale) << what << ": parameter Hessian (scale " << scale << ")";
+  for (int b = 0; b < dim - 1; ++b)
+    EXPECT_LT((d2xi[b] - d2xi[b].transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << ": not symmetric";
 }
 
 INSTANTIATE_TEST_SUITE_P(

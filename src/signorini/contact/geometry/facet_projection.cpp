@@ -1,6 +1,7 @@
 #include "signorini/contact/geometry/facet_projection.hpp"
 
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 
 #include "signorini/fem/shape.hpp"
@@ -10,12 +11,14 @@ namespace signorini {
 namespace {
 
 // Second derivatives of the facet's shape functions: central differences of the analytic
-// first derivatives, exact to round-off because every facet shape function has degree <= 2
-// in each parameter.
+// first derivatives, exact (to round-off, for any step) because every facet shape function
+// has degree <= 2 in each parameter, so its first derivatives are at most quadratic in each.
+constexpr Real kShapeStep = 0.25;
+
 void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<Mat2>& d2) {
   const ElementInfo& e = element_info(t);
   d2.assign(e.num_nodes, Mat2::Zero());
-  const Real h = 1e-3;
+  const Real h = kShapeStep;
   VecX N;
   MatX dp, dm;
   for (int b = 0; b < params; ++b) {
@@ -28,6 +31,22 @@ void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<M
       for (int a = 0; a < params; ++a) d2[i](a, b) = (dp(i, a) - dm(i, a)) / (2 * h);
   }
   for (auto& m : d2) m = 0.5 * (m + m.transpose()).eval();
+}
+
+// Third derivatives d3[i][c](a, b) = N_i,abc: central differences of the second derivatives,
+// exact for the same reason (N_i,ab has degree <= 2 in each parameter).
+void third_derivatives(ElementType t, const Vec3& xi, int params, std::vector<std::array<Mat2, 2>>& d3) {
+  const ElementInfo& e = element_info(t);
+  d3.assign(e.num_nodes, {Mat2::Zero(), Mat2::Zero()});
+  std::vector<Mat2> dp, dm;
+  for (int c = 0; c < params; ++c) {
+    Vec3 xp = xi, xm = xi;
+    xp(c) += kShapeStep;
+    xm(c) -= kShapeStep;
+    second_derivatives(t, xp, params, dp);
+    second_derivatives(t, xm, params, dm);
+    for (int i = 0; i < e.num_nodes; ++i) d3[i][c] = (dp[i] - dm[i]) / (2 * kShapeStep);
+  }
 }
 
 Vec3 normal_from_basis(const Vec3* a, int params) {
@@ -157,6 +176,82 @@ void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetPr
     dxi->resize(n, np);
     for (int a = 0; a < np; ++a) dxi->col(a) = Xi[a];
   }
+}
+
+void parameter_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
+                          MatX& dxi, std::vector<MatX>& d2xi) {
+  // F_a(u, xi) = a_a(xi; u) . r(xi; u), r = x_s - x(xi), is bilinear in the nodal positions at
+  // fixed xi. With the linear maps d a_a = Aa[a] du, d r = R du, d a_ab = Aab[a][b] du:
+  //   F_a,u     = Aa[a]^T r + R^T a_a
+  //   F_a,uu    = Aa[a]^T R + R^T Aa[a]
+  //   F_a,u xi_c = Aab[a][c]^T r - Aa[a]^T a_c - Aa[c]^T a_a + R^T a_ac
+  //   F_a,xi_c  = a_ac . r - a_a . a_c = -M_ac  (M = A - g H, as r = g n)
+  //   F_a,xi_c xi_d = a_acd . r - a_ac . a_d - a_ad . a_c - a_a . a_cd.
+  // Differentiating F_a(u, xi(u)) = 0 once gives M dxi = F_u, twice
+  //   M_ab d2xi_b = F_a,uu + sum_c (F_a,uxi_c (x) dxi_c + dxi_c (x) F_a,uxi_c)
+  //                 + sum_cd F_a,xi_c xi_d dxi_c (x) dxi_d.
+  const ElementInfo& e = element_info(facet);
+  const int nn = e.num_nodes, np = fp.params, n = (nn + 1) * dim;
+  VecX N;
+  MatX dN;
+  shape_functions(facet, fp.xi, N, dN);
+  std::vector<Mat2> d2;
+  second_derivatives(facet, fp.xi, np, d2);
+  std::vector<std::array<Mat2, 2>> d3;
+  third_derivatives(facet, fp.xi, np, d3);
+  const Vec3 r = fp.gap * fp.normal;
+  MatX R = MatX::Zero(dim, n);
+  std::vector<MatX> Aa(np, MatX::Zero(dim, n));
+  std::vector<std::vector<MatX>> Aab(np, std::vector<MatX>(np, MatX::Zero(dim, n)));
+  std::vector<std::vector<Vec3>> aab(np, std::vector<Vec3>(np, Vec3::Zero()));
+  std::vector<std::vector<std::vector<Vec3>>> aabc(
+      np, std::vector<std::vector<Vec3>>(np, std::vector<Vec3>(np, Vec3::Zero())));
+  for (int d = 0; d < dim; ++d) R(d, d) = 1;
+  for (int i = 0; i < nn; ++i) {
+    for (int d = 0; d < dim; ++d) {
+      const int k = (i + 1) * dim + d;
+      R(d, k) = -N(i);
+      for (int a = 0; a < np; ++a) {
+        Aa[a](d, k) = dN(i, a);
+        for (int b = 0; b < np; ++b) Aab[a][b](d, k) = d2[i](a, b);
+      }
+    }
+    for (int a = 0; a < np; ++a)
+      for (int b = 0; b < np; ++b) {
+        aab[a][b] += d2[i](a, b) * x[i];
+        for (int c = 0; c < np; ++c) aabc[a][b][c] += d3[i][c](a, b) * x[i];
+      }
+  }
+  auto head = [&](const Vec3& v) -> VecX { return v.head(dim); };
+  // dxi = M^-1 F_u.
+  const Mat2 M = fp.A - fp.gap * fp.H;
+  Mat2 Minv = Mat2::Zero();
+  if (np == 1) Minv(0, 0) = 1 / M(0, 0);
+  else Minv = M.inverse();
+  std::vector<VecX> Fu(np);
+  for (int a = 0; a < np; ++a) Fu[a] = Aa[a].transpose() * head(r) + R.transpose() * head(fp.a[a]);
+  dxi.setZero(n, np);
+  for (int b = 0; b < np; ++b)
+    for (int a = 0; a < np; ++a) dxi.col(b) += Minv(b, a) * Fu[a];
+  // Right-hand sides of the second variation, one per condition a.
+  std::vector<MatX> rhs(np);
+  for (int a = 0; a < np; ++a) {
+    MatX Fuu = Aa[a].transpose() * R;
+    rhs[a] = Fuu + Fuu.transpose();
+    for (int c = 0; c < np; ++c) {
+      const VecX Fuxi = Aab[a][c].transpose() * head(r) - Aa[a].transpose() * head(fp.a[c]) -
+                        Aa[c].transpose() * head(fp.a[a]) + R.transpose() * head(aab[a][c]);
+      rhs[a].noalias() += Fuxi * dxi.col(c).transpose() + dxi.col(c) * Fuxi.transpose();
+      for (int d = 0; d < np; ++d) {
+        const Real Fxixi =
+            aabc[a][c][d].dot(r) - aab[a][c].dot(fp.a[d]) - aab[a][d].dot(fp.a[c]) - fp.a[a].dot(aab[c][d]);
+        rhs[a].noalias() += Fxixi * dxi.col(c) * dxi.col(d).transpose();
+      }
+    }
+  }
+  d2xi.assign(np, MatX::Zero(n, n));
+  for (int b = 0; b < np; ++b)
+    for (int a = 0; a < np; ++a) d2xi[b] += Minv(b, a) * rhs[a];
 }
 
 PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_normal, int dim, VecX* grad,

@@ -44,6 +44,14 @@ bool inside_reference(ElementType facet, const Vec3& xi, Real tol);
 void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
                     MatX& hess, MatX* dxi = nullptr);
 
+// First and second variations of the facet parameters xi_b of the closest point with respect
+// to [x_slave, x_1, ..., x_N] at a converged projection: `dxi` gets one column per parameter,
+// `d2xi[b]` the Hessian of xi_b. Needed by the tangent of the tangential slip (friction).
+// Derivation in docs/contact.md: the implicit function theorem applied twice to the
+// projection condition F_a = a_a . (x_s - x(xi)) = 0 (Wriggers 2006, sec. 4.3, eq. 4.51 ff.).
+void parameter_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
+                          MatX& dxi, std::vector<MatX>& d2xi);
+
 // Node-to-vertex: gap s |x_s - x_v| with s = sign((x_s - x_v) . n_ref) for a reference
 // normal n_ref (the average normal of the facets at the vertex); gradient and Hessian with
 // respect to [x_s, x_v].
