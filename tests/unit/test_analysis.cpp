@@ -207,3 +207,56 @@ TEST(Analysis, FollowerPressurePicksAnUnsymmetricSolver) {
   }
   EXPECT_NEAR(a.reaction_sum("ymin")(1), 50.0 * (xmax - xmin) * 0.5, 1e-6 * 50);
 }
+
+TEST(Analysis, RigidBodyTranslatesWithItsReferenceNode) {
+  // An elastic block (E = 100, nu = 0, plane strain, fixed at its bottom, x free) under a
+  // rigid block pushed down by a force F on its reference node set (its top), frictionless
+  // node-to-segment contact on non-matching meshes. The exact state: sigma_yy = -F / w in the
+  // elastic block, the rigid block's nodes all moved by the same vector, and the elastic
+  // block's bottom reaction equal to F. A second run prescribes the reference's displacement
+  // instead, and the reaction at the reference set (counted once, not per node) equals the
+  // force that displacement needs.
+  for (bool by_force : {true, false}) {
+    Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5, 0));
+    AnalysisSettings s;
+    Model m;
+    m.settings = s;
+    m.mesh = std::move(mesh);
+    orient_facets(m.mesh);
+    m.bodies.push_back(std::make_unique<Body>("lower", m.mesh.regions["lower_domain"],
+                                              std::make_shared<LinearElastic>(100, 0.0), s));
+    m.bodies.push_back(std::make_unique<Body>("upper", m.mesh.regions["upper_domain"], nullptr, s));
+    m.bodies.back()->set_reference_nodes(m.mesh.node_sets["upper_ymax"]);
+    ASSERT_TRUE(m.bodies.back()->rigid());
+    ContactPairSettings cs;
+    cs.name = "c";
+    cs.master = "upper_ymin";  // the rigid body is master
+    cs.slave = "lower_ymax";
+    m.contacts = {cs};
+    Step st;
+    m.mesh.node_sets["lower_corner"] = {m.mesh.node_sets["lower_ymin"].front()};
+    st.dirichlet = {fix("lower_ymin", 1), fix("lower_corner", 0), fix("upper_ymax", 0)};
+    const Real F = 2.0, w = 1.0, E = 100;
+    if (by_force) st.loads = {load(LoadKind::nodal_force, "upper_ymax", Vec3(0, -F, 0))};
+    else st.dirichlet.push_back(fix("upper_ymax", 1, -F / (E * w) * 0.5));  // the elastic block's shortening
+    m.steps = {st};
+    Analysis a(m);
+    // The rigid block has 2 DOFs in all.
+    Index lower_nodes = 0;
+    for (Index n = 0; n < m.mesh.num_nodes(); ++n) lower_nodes += a.dofs().has_dofs(n) && !a.dofs().shared(n);
+    EXPECT_EQ(a.dofs().num_dofs(), 2 * lower_nodes + 2);
+    AnalysisSummary sum = a.run();
+    ASSERT_TRUE(sum.completed) << sum.failure;
+    const VecX& u = a.displacement();
+    const Index ref = m.mesh.node_sets["upper_ymax"].front();
+    for (Index n : m.mesh.node_sets["upper_ymin"])
+      for (int d = 0; d < 2; ++d) EXPECT_EQ(u(a.dofs().dof(n, d)), u(a.dofs().dof(ref, d)));
+    for (auto& b : m.bodies) {
+      CellResults r = b->results(m.mesh.nodes, u, a.dofs());
+      for (auto& sg : r.stress) EXPECT_NEAR(sg(1), b->rigid() ? 0.0 : -F / w, 1e-8 * F) << b->name();
+    }
+    EXPECT_NEAR(a.reaction_sum("lower_ymin")(1), F, 1e-8 * F);
+    if (!by_force) EXPECT_NEAR(a.reaction_sum("upper_ymax")(1), -F, 1e-8 * F);
+    else EXPECT_NEAR(u(a.dofs().dof(ref, 1)), -F / (E * w) * 0.5, 1e-8);
+  }
+}

@@ -271,3 +271,20 @@ TEST(Deck, ContactMasterAutoAndRuleWarning) {
   ASSERT_TRUE(rm.steps[0].obstacles[0].u[1].has_value());
   EXPECT_NEAR(*rm.steps[0].obstacles[0].u[1], 0.5, 1e-15);
 }
+
+TEST(Deck, RigidBodyErrors) {
+  auto m = error_of("r_material", replace(kGood, "{name: plate, region: Square, material: steel}",
+                                          "{name: plate, region: Square, material: steel, rigid: true}"));
+  EXPECT_MESSAGE(m, "r_material.yaml:7", "bodies[0].material", "a rigid body has no material");
+  m = error_of("r_noref", replace(kGood, "{name: plate, region: Square, material: steel}",
+                                  "{name: plate, region: Square, material: steel, reference: Left}"));
+  EXPECT_MESSAGE(m, "r_noref.yaml:7", "bodies[0].reference", "rigid: true");
+  m = error_of("r_nomat", replace(kGood, "{name: plate, region: Square, material: steel}", "{name: plate, region: Square}"));
+  EXPECT_MESSAGE(m, "r_nomat.yaml:7", "bodies[0]", "missing key 'material'");
+  m = error_of("r_set", replace(kGood, "{name: plate, region: Square, material: steel}",
+                                "{name: plate, region: Square, rigid: true, reference: Corner}"));
+  EXPECT_MESSAGE(m, "r_set.yaml:7", "bodies[0].reference", "no node set", "'Corner'");
+  m = error_of("r_bool", replace(kGood, "{name: plate, region: Square, material: steel}",
+                                 "{name: plate, region: Square, rigid: maybe}"));
+  EXPECT_MESSAGE(m, "r_bool.yaml:7", "bodies[0].rigid");
+}

@@ -133,3 +133,37 @@ TEST(Hertz, RigidRollerDrivenByAForce) {
   EXPECT_LT(r.obstacle_displacement(1), 0);
   EXPECT_EQ(r.obstacle_displacement(0), 0);
 }
+
+TEST(Hertz, RigidMeshedBlockMatchesTheAnalyticPlane) {
+  // The cylinder of hertz_rigid_plane (loaded by a traction) on the block of the same mesh
+  // made rigid and held by its reference node set, instead of the analytic plane y = 0: the
+  // block's top is the same flat line, so the answers must agree to the Newton tolerance.
+  namespace fs = std::filesystem;
+  const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "hertz_rigid_plane" / "hertz_rigid_plane.yaml";
+  std::ifstream in(src);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string plane = ss.str();
+  plane.insert(plane.find("file: ") + 6, (src.parent_path() / "").string());
+  std::string block = plane;
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t p = block.find(from);
+    ASSERT_NE(p, std::string::npos) << from;
+    block.replace(p, from.size(), to);
+  };
+  replace("master: {rigid: plane, point: [0, 0], normal: [0, 1]}", "master: BlockTop");
+  replace("  - {name: cylinder, region: Cylinder, material: steel}\n",
+          "  - {name: cylinder, region: Cylinder, material: steel}\n"
+          "  - {name: block, region: Block, rigid: true, reference: BlockBottom}\n");
+  replace("      - {set: CylinderAxis, ux: 0}\n", "      - {set: CylinderAxis, ux: 0}\n      - {set: BlockBottom, u: [0, 0]}\n");
+  test::HertzRun a = test::run_deck_text(plane, "analytic_plane"), b = test::run_deck_text(block, "rigid_block");
+  ASSERT_TRUE(a.summary.completed) << a.summary.failure;
+  ASSERT_TRUE(b.summary.completed) << b.summary.failure;
+  ASSERT_EQ(a.checks.size(), b.checks.size());
+  for (size_t k = 0; k < a.checks.size(); ++k) {
+    std::printf("rigid meshed block vs analytic plane: %s %.8g vs %.8g\n", a.checks[k].check.name.c_str(),
+                b.checks[k].computed, a.checks[k].computed);
+    EXPECT_NEAR(b.checks[k].computed, a.checks[k].computed, 1e-6 * std::abs(a.checks[k].computed)) << a.checks[k].check.name;
+    EXPECT_TRUE(b.checks[k].pass) << b.checks[k].check.name;
+  }
+}

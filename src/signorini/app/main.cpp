@@ -32,8 +32,12 @@ void print_model(const Model& m, const DeckReport& rep) {
   for (auto& b : m.bodies) {
     std::string types;
     for (auto& blk : b->blocks()) types += (types.empty() ? "" : "+") + element_info(blk.type).name;
-    fmt::print("  body       {}: {} cells ({}), material {} (E = {:g})\n", b->name(), b->num_cells(), types,
-               b->material().model(), b->material().stiffness_scale());
+    if (b->rigid())
+      fmt::print("  body       {}: {} cells ({}), rigid, {} reference node(s)\n", b->name(), b->num_cells(), types,
+                 b->reference_nodes().size());
+    else
+      fmt::print("  body       {}: {} cells ({}), material {} (E = {:g})\n", b->name(), b->num_cells(), types,
+                 b->material().model(), b->material().stiffness_scale());
   }
   for (auto& s : m.steps)
     fmt::print("  step       {}: {} Dirichlet conditions, {} loads, increments {:g} [{:g}, {:g}]\n", s.name,

@@ -12,7 +12,7 @@ Body::Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<c
            AnalysisSettings settings)
     : name_(std::move(name)), blocks_(std::move(blocks)), material_(std::move(material)), settings_(settings) {
   Index offset = 0;
-  const int hs = material_->history_size();
+  const int hs = material_ ? material_->history_size() : 0;
   for (auto& b : blocks_) {
     BlockCache c;
     c.rule = quadrature_rule(b.type, default_quadrature_degree(b.type));
@@ -210,6 +210,7 @@ void gather(const ElementBlock& b, Index e, const std::vector<Vec3>& X, const Ve
 
 void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint,
                     GlobalMatrix* matrix) {
+  if (rigid()) return;  // no strain energy; its nodes move with the reference node
   const int hs = material_->history_size();
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
     const ElementBlock& b = blocks_[bi];
@@ -289,6 +290,14 @@ Real Body::volume(const std::vector<Vec3>& X) const {
 
 CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs) const {
   CellResults r;
+  if (rigid()) {
+    // Rigid cells: no strain, and their stress is not defined by a constitutive law (zero).
+    const Index n = num_cells();
+    r.stress.assign(n, Vec6::Zero());
+    r.strain.assign(n, Vec6::Zero());
+    r.von_mises.assign(n, 0.0);
+    return r;
+  }
   const int hs = material_->history_size();
   std::vector<Real> scratch;
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {

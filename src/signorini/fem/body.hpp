@@ -1,6 +1,8 @@
 // A body: the cells of one region with one material. It computes internal forces, the
 // tangent and per-cell results for a given displacement, for every analysis type
-// (plane strain, plane stress, axisymmetric, 3D) and both small and finite strain.
+// (plane strain, plane stress, axisymmetric, 3D) and both small and finite strain. A rigid
+// body has no material: its nodes share the DOFs of its reference node (see DofMap) and it
+// adds no internal forces.
 #pragma once
 #include <memory>
 #include <string>
@@ -24,12 +26,18 @@ struct CellResults {
 
 class Body {
  public:
+  // A null material makes the body rigid.
   Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<const Material> material,
        AnalysisSettings settings);
 
   const std::string& name() const { return name_; }
   const std::vector<ElementBlock>& blocks() const { return blocks_; }
   const Material& material() const { return *material_; }
+  bool rigid() const { return !material_; }
+  // Nodes that follow the body as a rigid body: the reference node set (nodes outside the
+  // mesh's cells allowed). Only for rigid bodies.
+  const std::vector<Index>& reference_nodes() const { return reference_; }
+  void set_reference_nodes(std::vector<Index> nodes) { reference_ = std::move(nodes); }
   Index num_cells() const;
 
   // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
@@ -68,6 +76,7 @@ class Body {
   AnalysisSettings settings_;
   std::vector<BlockCache> caches_;  // one per block
   std::vector<Real> history_, trial_;
+  std::vector<Index> reference_;
 };
 
 }  // namespace signorini

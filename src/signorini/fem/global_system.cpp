@@ -10,6 +10,19 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
   const Index nn = dofs.num_nodes();
   const int ndpn = dofs.dofs_per_node();
   const Index n = std::max(total_dofs, dofs.num_dofs());
+  // Nodes that share DOFs (a rigid body's) are one node here: its first one, which comes
+  // first in the DOF numbering, so columns are emitted in order.
+  std::vector<Index> rep(nn);
+  {
+    std::vector<Index> owner(dofs.num_dofs() / std::max(ndpn, 1) + 1, -1);
+    for (Index node = 0; node < nn; ++node) {
+      rep[node] = node;
+      if (!dofs.shared(node) || !dofs.has_dofs(node)) continue;
+      Index& o = owner[dofs.dof(node, 0) / ndpn];
+      if (o < 0) o = node;
+      rep[node] = o;
+    }
+  }
   // Node adjacency through cells.
   std::vector<std::vector<Index>> adj(nn);
   for (auto* b : cells) {
@@ -17,7 +30,7 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
     for (Index e = 0; e < b->size(); ++e) {
       const Index* c = b->element(e);
       for (int i = 0; i < npe; ++i)
-        for (int j = 0; j < npe; ++j) adj[c[i]].push_back(c[j]);
+        for (int j = 0; j < npe; ++j) adj[rep[c[i]]].push_back(rep[c[j]]);
     }
   }
   // Extra DOF-level couplings, by column.
@@ -42,7 +55,7 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
   };
   Index col = 0;
   for (Index node = 0; node < nn; ++node) {
-    if (!dofs.has_dofs(node)) continue;
+    if (!dofs.has_dofs(node) || rep[node] != node) continue;
     auto& a = adj[node];
     std::sort(a.begin(), a.end());
     a.erase(std::unique(a.begin(), a.end()), a.end());

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <limits>
 #include <set>
 
 #include "signorini/contact/surface.hpp"
@@ -188,7 +189,13 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
   for (size_t i = 0; i < bodies.node.size(); ++i) {
     Node b = bodies.at(i);
     b.check_keys(bspec);
-    const std::string name = b.text(bspec, "name"), region = b.text(bspec, "region"), mat = b.text(bspec, "material");
+    const std::string name = b.text(bspec, "name"), region = b.text(bspec, "region");
+    const bool rigid = b.has("rigid") && b.child("rigid").as_bool();
+    if (b.has("reference") && !rigid) b.child("reference").fail("a reference node set is for a rigid body (add rigid: true)");
+    if (!rigid && !b.has("material")) b.fail("missing key 'material' (a deformable body needs one; or rigid: true)");
+    if (rigid && b.has("material"))
+      b.child("material").fail("a rigid body has no material (remove 'material', or 'rigid: true' for a deformable body)");
+    const std::string mat = rigid ? std::string() : b.text(bspec, "material");
     if (!names.insert(name).second) b.child("name").fail("two bodies are named '" + name + "'");
     auto rit = m.mesh.regions.find(region);
     if (rit == m.mesh.regions.end())
@@ -196,7 +203,7 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
                              region + "' in the mesh (regions: " + m.mesh.region_names() + ")");
     if (!used_regions.insert(region).second) b.child("region").fail("region '" + region + "' is used by two bodies");
     auto mit = materials.find(mat);
-    if (mit == materials.end()) {
+    if (!rigid && mit == materials.end()) {
       std::string known;
       for (auto& [k, v] : materials) known += (known.empty() ? "" : ", ") + k;
       b.child("material").fail("no material named '" + mat + "' (materials: " + known + ")");
@@ -207,8 +214,31 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
           if (m.mesh.nodes[node](0) < -1e-12)
             b.child("region").fail("axisymmetric analysis needs x = r >= 0, but region '" + region +
                                    "' has nodes at negative x");
-    m.bodies.push_back(std::make_unique<Body>(name, rit->second, mit->second, m.settings));
+    m.bodies.push_back(
+        std::make_unique<Body>(name, rit->second, rigid ? nullptr : mit->second, m.settings));
+    if (rigid && b.has("reference")) {
+      const std::string ref = b.child("reference").as_string();
+      auto nit = m.mesh.node_sets.find(ref);
+      if (nit == m.mesh.node_sets.end())
+        b.child("reference").fail("no node set (physical group) named '" + ref + "' in the mesh");
+      m.bodies.back()->set_reference_nodes(nit->second);
+    }
   }
+  // A node of a rigid body may not belong to another body (it would be dragged along).
+  std::map<Index, std::string> owner;
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    for (auto& blk : m.bodies[i]->blocks())
+      for (Index n : blk.conn) {
+        auto [it, fresh] = owner.emplace(n, m.bodies[i]->name());
+        if (!fresh && it->second != m.bodies[i]->name() && (m.bodies[i]->rigid() || [&] {
+              for (auto& o : m.bodies)
+                if (o->name() == it->second) return o->rigid();
+              return false;
+            }()))
+          bodies.at(i).child("region").fail("body '" + m.bodies[i]->name() + "' shares node " +
+                                            std::to_string(m.mesh.node_ids[n]) + " with body '" + it->second +
+                                            "', and one of them is rigid: a rigid body must be meshed apart");
+      }
 }
 
 std::string component_name(int c) { return std::string(1, "xyz"[c]); }
@@ -382,7 +412,7 @@ SurfaceInfo surface_info(const Model& m, const std::string& set) {
   for (auto& body : m.bodies)
     for (auto& blk : body->blocks())
       if (std::find(blk.conn.begin(), blk.conn.end(), any) != blk.conn.end()) {
-        info.stiffness = body->material().stiffness_scale();
+        info.stiffness = body->rigid() ? std::numeric_limits<Real>::infinity() : body->material().stiffness_scale();
         info.body = body->name();
       }
   return info;

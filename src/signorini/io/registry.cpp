@@ -184,10 +184,15 @@ void register_deck_sections(Registry& r) {
           opt(text("parameters", ".geo constants declared with DefineConstant[...]: name -> number", std::nullopt,
                    ParamKind::any)),
           number("order", "element order to raise the mesh to after meshing (0: keep)", "0", 0, 2)}});
-  r.add({"deck", "body", "A deformable body: the cells of one region with one material.",
+  r.add({"deck", "body", "A body: the cells of one region with one material, or rigid.",
          {text("name", "name used in messages and output", std::nullopt),
           text("region", "physical group of cells", std::nullopt),
-          text("material", "name of a material of the 'materials' section", std::nullopt)}});
+          opt(text("material", "name of a material of the 'materials' section (deformable bodies)", std::nullopt)),
+          text("rigid", "the body is rigid: all its nodes translate with its reference node (rotations locked)",
+               "false", ParamKind::boolean),
+          opt(text("reference", "rigid body: node set of its reference node (may lie outside the cells); boundary "
+                                "conditions and forces on it drive the body",
+                   std::nullopt))}});
   r.add({"deck", "step", "A load step. Prescribed values and loads ramp linearly over the step.",
          {text("name", "step name", "step<N>"),
           opt(text("increments", "{initial, min, max, max_count}: fractions of the step", std::nullopt, ParamKind::any)),

@@ -80,15 +80,30 @@ std::vector<const ElementBlock*> all_cells(const Model& m) {
     for (auto& blk : b->blocks()) v.push_back(&blk);
   return v;
 }
+
+// The nodes of each rigid body with its reference nodes: they share one set of DOFs.
+std::vector<std::vector<Index>> rigid_groups(const Model& m) {
+  std::vector<std::vector<Index>> groups;
+  for (auto& b : m.bodies) {
+    if (!b->rigid()) continue;
+    std::vector<Index> g = b->reference_nodes();
+    for (auto& blk : b->blocks()) g.insert(g.end(), blk.conn.begin(), blk.conn.end());
+    std::sort(g.begin(), g.end());
+    g.erase(std::unique(g.begin(), g.end()), g.end());
+    groups.push_back(std::move(g));
+  }
+  return groups;
+}
 }  // namespace
 
 Analysis::Analysis(Model& model)
     : model_(model),
-      dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model)),
+      dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model), rigid_groups(model)),
       linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d),
       cells_(all_cells(model)) {
   Real stiffness = 0;
-  for (auto& b : model.bodies) stiffness = std::max(stiffness, b->material().stiffness_scale());
+  for (auto& b : model.bodies)
+    if (!b->rigid()) stiffness = std::max(stiffness, b->material().stiffness_scale());
   Index unknowns = dofs_.num_dofs();
   for (const ContactPairSettings& cs : model.contacts)
     for (int pass = 0; pass < cs.passes; ++pass) {
@@ -548,10 +563,16 @@ Vec3 Analysis::reaction_sum(const std::string& node_set) const {
   Vec3 r = Vec3::Zero();
   auto it = model_.mesh.node_sets.find(node_set);
   if (it == model_.mesh.node_sets.end()) return r;
+  std::vector<Index> seen;  // the nodes of a rigid body share their DOFs: count each once
   for (Index node : it->second)
     for (int i = 0; i < dofs_.dofs_per_node(); ++i) {
       Index d = dofs_.dof(node, i);
-      if (d >= 0) r(i) += reactions_(d);
+      if (d < 0) continue;
+      if (dofs_.shared(node)) {
+        if (std::find(seen.begin(), seen.end(), d) != seen.end()) continue;
+        seen.push_back(d);
+      }
+      r(i) += reactions_(d);
     }
   return r;
 }
