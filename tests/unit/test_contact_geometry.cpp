@@ -198,6 +198,36 @@ TEST(ContactGeometry, PointGapVariations) {
   }
 }
 
+TEST(ContactGeometry, EdgeGapVariations) {
+  // A slave point near a skew edge, above and below it (both signs), against central differences.
+  const Vec3 a(0.1, -0.2, 0.05), b(0.9, 0.3, -0.1), nref = Vec3(0.2, 0.1, 1).normalized();
+  for (Real side : {1.0, -1.0}) {
+    const Vec3 s = 0.6 * a + 0.4 * b + side * Vec3(0.05, -0.1, 0.3);
+    VecX g;
+    MatX H;
+    EdgeGap eg = edge_gap(s, a, b, nref, 3, &g, &H);
+    EXPECT_GT(eg.eta, 0);
+    EXPECT_LT(eg.eta, 1);
+    EXPECT_EQ(eg.gap > 0, side > 0);
+    EXPECT_NEAR(std::abs(eg.gap), (s - (1 - eg.eta) * a - eg.eta * b).norm(), 1e-14);
+    const Real h = 1e-6;
+    Real eg_err = 0, eh_err = 0;
+    for (int k = 0; k < 9; ++k) {
+      Vec3 p[2][3] = {{s, a, b}, {s, a, b}};
+      p[0][k / 3](k % 3) += h;
+      p[1][k / 3](k % 3) -= h;
+      VecX gp, gm;
+      const Real fp = edge_gap(p[0][0], p[0][1], p[0][2], nref, 3, &gp, nullptr).gap;
+      const Real fm = edge_gap(p[1][0], p[1][1], p[1][2], nref, 3, &gm, nullptr).gap;
+      eg_err = std::max(eg_err, std::abs((fp - fm) / (2 * h) - g(k)));
+      eh_err = std::max(eh_err, ((gp - gm) / (2 * h) - H.col(k)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(eg_err, 1e-8);
+    EXPECT_LT(eh_err, 1e-6 * std::max(1.0, H.cwiseAbs().maxCoeff()));
+    EXPECT_LT((H - H.transpose()).cwiseAbs().maxCoeff(), 1e-12 * H.cwiseAbs().maxCoeff());
+  }
+}
+
 #include "signorini/contact/discretization/node_to_segment.hpp"
 
 TEST(ContactDetection, NoBlindSpotsAtMasterCorners) {
@@ -240,4 +270,44 @@ TEST(ContactDetection, NoBlindSpotsAtMasterCorners) {
   EXPECT_NEAR(cs[0].gap, -std::hypot(0.02, 0.05), 1e-12);
   EXPECT_EQ(cs[1].kind, ConstraintKind::segment);
   EXPECT_NEAR(cs[1].gap, 0.03, 1e-12);
+}
+
+TEST(ContactDetection, NodeToEdgeAtAConvexRidge3D) {
+  // Two master quads meeting at a convex ridge along the y axis: facet A in the plane z = -x
+  // for x in [0, 1] (outward normal (1, 0, 1)/sqrt 2), facet B in z = x for x in [-1, 0]
+  // (normal (-1, 0, 1)/sqrt 2); the body is below. A slave node right above the ridge projects
+  // inside neither facet: node-to-edge, gap = its distance to the ridge. One just below the
+  // ridge (penetrating) projects inside a facet: node-to-segment.
+  std::vector<Vec3> x{Vec3(0, 0, 0),  Vec3(1, 0, -1), Vec3(1, 1, -1), Vec3(0, 1, 0),
+                      Vec3(-1, 0, -1), Vec3(-1, 1, -1), Vec3::Zero(),   Vec3::Zero()};
+  MasterSurface master;
+  master.type = {ElementType::quad4, ElementType::quad4};
+  master.facets = {{0, 1, 2, 3}, {0, 3, 5, 4}};
+  master.node_facets.assign(8, {});
+  for (Index f = 0; f < 2; ++f)
+    for (Index n : master.facets[f]) master.node_facets[n].push_back(f);
+  master.nodes = {0, 1, 2, 3, 4, 5};
+  for (Index f = 0; f < 2; ++f) {
+    std::vector<Vec3> xf;
+    for (Index n : master.facets[f]) xf.push_back(x[n]);
+    ASSERT_GT(facet_normal(ElementType::quad4, xf, Vec3::Zero(), 3).z(), 0.7) << "facet " << f << " faces down";
+  }
+  SlaveSurface slave;
+  slave.nodes = {6, 7};
+  slave.weights = {1, 1};
+  x[6] = Vec3(0.02, 0.4, 0.1);     // above the ridge
+  x[7] = Vec3(0.3, 0.6, -0.33);    // 0.03 below facet A, inside it
+  ConstraintSet cs;
+  node_to_segment(master, slave, x, 3, {0, 0}, cs);
+  EXPECT_EQ(cs[0].kind, ConstraintKind::edge);
+  EXPECT_NEAR(cs[0].gap, std::hypot(0.02, 0.1), 1e-12);
+  EXPECT_EQ(cs[0].nodes.size(), 3u);
+  EXPECT_EQ(cs[1].kind, ConstraintKind::segment);
+  EXPECT_NEAR(cs[1].gap, (-0.33 + 0.3) / std::sqrt(2.0), 1e-12);
+  // Just below the ridge the node projects inside both facets (equidistant): node-to-segment,
+  // penetrating.
+  x[6] = Vec3(0.0, 0.4, -0.05);
+  node_to_segment(master, slave, x, 3, {0, 0}, cs);
+  EXPECT_EQ(cs[0].kind, ConstraintKind::segment);
+  EXPECT_NEAR(cs[0].gap, -0.05 / std::sqrt(2.0), 1e-12);
 }

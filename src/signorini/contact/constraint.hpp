@@ -8,12 +8,12 @@
 
 namespace signorini {
 
-enum class ConstraintKind { none, segment, vertex, node };
+enum class ConstraintKind { none, segment, edge, vertex, node };
 
 struct Constraint {
   ConstraintKind kind = ConstraintKind::none;  // none: no master within reach
   Index slave = -1;        // slave node
-  Index facet = -1;        // master facet (segment), or master node (vertex, node)
+  Index facet = -1;        // master facet (segment, edge: a facet along the edge), or master node (vertex, node)
   Real weight = 0;         // tributary area of the slave node
   Real gap = 0;
   Vec3 normal = Vec3::Zero();

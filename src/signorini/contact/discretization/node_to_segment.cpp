@@ -1,5 +1,6 @@
 #include "signorini/contact/discretization/node_to_segment.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
@@ -55,6 +56,52 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
       c.nodes.insert(c.nodes.end(), master.facets[best].begin(), master.facets[best].end());
       gap_variations(master.type[best], best_x, best_fp, dim, c.grad, c.hess);
       continue;
+    }
+    // Node-to-edge (3D, straight edges of linear facets): the closest point on the edges of
+    // the facets around the candidate, if it lies strictly inside an edge (the closest point
+    // of the faceted surface is then on that edge: a convex ridge, or a blind spot).
+    if (dim == 3) {
+      Index ea = -1, eb = -1, ef = -1;
+      Real ed = std::numeric_limits<Real>::infinity();
+      for (Index f : around) {
+        if (element_info(master.type[f]).order != 1) continue;
+        const int nc = master.corners(f);
+        for (int k = 0; k < nc; ++k) {
+          const Index a = master.facets[f][k], b = master.facets[f][(k + 1) % nc];
+          const Vec3 t = x[b] - x[a];
+          const Real eta = t.dot(p - x[a]) / t.squaredNorm();
+          if (!(eta > 1e-9 && eta < 1 - 1e-9)) continue;
+          const Real dist = (p - x[a] - eta * t).norm();
+          if (dist < ed) ed = dist, ea = a, eb = b, ef = f;
+        }
+      }
+      Real vmin = std::numeric_limits<Real>::infinity();
+      for (Index f : around)
+        for (int k = 0; k < master.corners(f); ++k) vmin = std::min(vmin, (x[master.facets[f][k]] - p).norm());
+      if (ea >= 0 && ed < vmin) {
+        // Reference normal: the average of the normals of the facets along the edge.
+        Vec3 nref = Vec3::Zero();
+        for (Index f : around) {
+          const auto& fn = master.facets[f];
+          if (std::find(fn.begin(), fn.end(), ea) == fn.end() || std::find(fn.begin(), fn.end(), eb) == fn.end())
+            continue;
+          xf.clear();
+          for (Index nd : fn) xf.push_back(x[nd]);
+          const ElementInfo& info = element_info(master.type[f]);
+          nref += facet_normal(master.type[f], xf, info.family == ShapeFamily::simplex ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Zero(), 3);
+        }
+        nref.normalize();
+        const Vec3 de = p - x[ea] - ((x[eb] - x[ea]).dot(p - x[ea]) / (x[eb] - x[ea]).squaredNorm()) * (x[eb] - x[ea]);
+        // As for vertices: only a node facing the edge (within 60 degrees of its normal).
+        if (de.norm() > 1e-12 * (1 + p.norm()) && std::abs(de.dot(nref)) < 0.5 * de.norm()) continue;
+        EdgeGap eg = edge_gap(p, x[ea], x[eb], nref, dim, &c.grad, &c.hess);
+        c.kind = ConstraintKind::edge;
+        c.facet = ef;
+        c.gap = eg.gap;
+        c.normal = eg.normal;
+        c.nodes = {c.slave, ea, eb};
+        continue;
+      }
     }
     // Node-to-vertex: the nearest corner of the facets around the candidate.
     Index vertex = -1;

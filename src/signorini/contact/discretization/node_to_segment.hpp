@@ -1,7 +1,8 @@
 // Discretizations that turn contact geometry into constraints, one per slave node.
 // Node-to-segment: the slave node against the closest projection on the master facets
 // around its search candidate; where no projection falls inside a facet (convex corners,
-// blind spots), against the nearest master vertex (node-to-vertex). Node-to-node: against
+// blind spots), against the closest point of an edge (node-to-edge, 3D) or the nearest
+// master vertex (node-to-vertex). Node-to-node: against
 // a master node, along the master's averaged normal frozen at detection (matching meshes).
 #pragma once
 #include <vector>

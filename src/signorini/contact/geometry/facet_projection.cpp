@@ -287,4 +287,45 @@ PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_
   return pg;
 }
 
+EdgeGap edge_gap(const Vec3& slave, const Vec3& xa, const Vec3& xb, const Vec3& reference_normal, int dim, VecX* grad,
+                 MatX* hess) {
+  // phi(X, eta) = |d|, d = x_s - (1 - eta) x_a - eta x_b, minimised over eta: t . d = 0 with
+  // t = x_b - x_a. With D = d d/dX = [I, -(1 - eta) I, -eta I], m = d/|d|, P = I - m m:
+  //   grad g = s D^T m,
+  //   hess g = s (D^T P D / |d| - b b^T / phi_ee),  b = phi_X,eta = [0, m, -m] - D^T t / |d|,
+  //   phi_ee = |t|^2 / |d|  (second-order envelope theorem).
+  EdgeGap eg;
+  const Vec3 t = xb - xa;
+  const Real tt = t.squaredNorm();
+  eg.eta = tt > 0 ? t.dot(slave - xa) / tt : 0.0;
+  const Vec3 d = slave - xa - eg.eta * t;
+  const Real len = d.norm();
+  const Real s = d.dot(reference_normal) >= 0 ? 1.0 : -1.0;
+  eg.gap = s * len;
+  eg.normal = len > 0 ? Vec3(s * d / len) : reference_normal;
+  const int n = 3 * dim;
+  MatX D = MatX::Zero(dim, n);
+  for (int k = 0; k < dim; ++k) {
+    D(k, k) = 1;
+    D(k, dim + k) = -(1 - eg.eta);
+    D(k, 2 * dim + k) = -eg.eta;
+  }
+  if (grad) *grad = D.transpose() * eg.normal.head(dim);
+  if (hess) {
+    hess->setZero(n, n);
+    if (len > 0 && tt > 0) {
+      const Vec3 m = d / len;
+      const MatX P = MatX::Identity(dim, dim) - m.head(dim) * m.head(dim).transpose();
+      VecX b = VecX::Zero(n);
+      for (int k = 0; k < dim; ++k) {
+        b(dim + k) = m(k);
+        b(2 * dim + k) = -m(k);
+      }
+      b -= D.transpose() * t.head(dim) / len;
+      *hess = s * (D.transpose() * P * D / len - b * b.transpose() * (len / tt));
+    }
+  }
+  return eg;
+}
+
 }  // namespace signorini

@@ -62,4 +62,17 @@ struct PointGap {
 PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_normal, int dim, VecX* grad,
                    MatX* hess);
 
+// Node-to-edge (3D): gap s |x_s - x_e| to the closest point x_e = (1 - eta) x_a + eta x_b of
+// the straight edge [x_a, x_b], with s = sign((x_s - x_e) . n_ref) for a reference normal
+// n_ref (the average normal of the facets along the edge); gradient and Hessian with respect
+// to [x_s, x_a, x_b]. Valid for eta strictly inside (0, 1) (else node-to-vertex); derivation
+// in docs/contact.md.
+struct EdgeGap {
+  Real gap = 0;
+  Real eta = 0;
+  Vec3 normal = Vec3::Zero();
+};
+EdgeGap edge_gap(const Vec3& slave, const Vec3& xa, const Vec3& xb, const Vec3& reference_normal, int dim, VecX* grad,
+                 MatX* hess);
+
 }  // namespace signorini
