@@ -62,6 +62,7 @@ struct NewtonSettings {
   Real energy_tolerance = 1e-16;      // |du . R| relative to the first iteration's
   bool line_search = true;
   bool predictor = true;              // extrapolate the last increment's displacement
+  bool condense_contact = true;       // eliminate contact multipliers from the linear solve
   Real cutback_factor = 0.5;
   Real growth_factor = 1.5;
   int easy_iterations = 5;            // grow the increment after convergence in <= this

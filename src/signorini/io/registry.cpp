@@ -270,6 +270,10 @@ void register_deck_sections(Registry& r) {
           number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),
           number("energy_tolerance", "|du.R| relative to the first iteration's", "1e-16", 0, 1),
           text("line_search", "backtracking line search on the residual norm", "true", ParamKind::boolean),
+          text("condense_contact",
+               "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
+               "one DOF of its slave node), so that Cholesky or CG applies",
+               "true", ParamKind::boolean),
           text("predictor", "start each increment from the last one's displacement, extrapolated", "true",
                ParamKind::boolean),
           number("cutback_factor", "increment factor after a failed increment", "0.5", 0, 1, true, true),

@@ -100,6 +100,7 @@ Analysis::Analysis(Model& model)
     : model_(model),
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model), rigid_groups(model)),
       linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d),
+      condensed_solver_(model.settings.dimension == Dimension::three_d),
       cells_(all_cells(model)) {
   Real stiffness = 0;
   for (auto& b : model.bodies)
@@ -122,7 +123,10 @@ Analysis::Analysis(Model& model)
   // Follower pressure makes the tangent unsymmetric.
   for (auto& s : model.steps)
     for (auto& l : s.loads)
-      if (l.kind == LoadKind::pressure && model.settings.finite_strain) symmetric_ = false;
+      if (l.kind == LoadKind::pressure && model.settings.finite_strain) symmetric_ = body_symmetric_ = false;
+  is_multiplier_.assign(unknowns, 0);
+  for (auto& c : contacts_)
+    for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
   if (!contacts_.empty()) detect_contact(0);
   rebuild_pattern();
 }
@@ -352,7 +356,18 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
       log::Timer ts;
       try {
-        linear_solver_.solve(system_.matrix(), symmetric_, R, du);
+        // Multiplier contact: the condensed system when its structure allows (model.hpp).
+        const bool multipliers = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
+        bool condensed = false;
+        if (multipliers && ns.condense_contact && model_.linear_solver == "auto") {
+          condensed = condensed_solver_.solve(system_.matrix(), is_multiplier_, body_symmetric_, R, du);
+          if (!condensed && !condense_reported_) {
+            log::info("    contact multipliers kept in the linear system (UMFPACK): {}", condensed_solver_.why_not());
+            condense_reported_ = true;
+          }
+        }
+        if (!condensed) linear_solver_.solve(system_.matrix(), symmetric_, R, du);
+        rec.linear_solver = condensed ? "condensed+" + condensed_solver_.last_used() : linear_solver_.last_used();
       } catch (const SolverError& e) {
         // Singular at the very first solve, from the undeformed state: cutting back cannot
         // help, the model is missing supports.
@@ -369,7 +384,6 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
                               "probably lacks supports (a rigid-body motion is free) in some direction");
       summary_.solve_seconds += ts.seconds();
-      rec.linear_solver = linear_solver_.last_used();
       const Real energy = std::abs(du.dot(R));
       // Backtracking line search on the residual norm.
       const VecX u0 = u_;

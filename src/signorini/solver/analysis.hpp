@@ -13,6 +13,7 @@
 #include "signorini/fem/global_system.hpp"
 #include "signorini/fem/model.hpp"
 #include "signorini/fem/surface_load.hpp"
+#include "signorini/solver/condensed_solve.hpp"
 #include "signorini/solver/linear_solver.hpp"
 
 namespace signorini {
@@ -100,7 +101,11 @@ class Analysis {
   DofMap dofs_;
   SparseSystem system_;
   AutoLinearSolver linear_solver_;
+  CondensedContactSolver condensed_solver_;
+  std::vector<char> is_multiplier_;  // per unknown
   bool symmetric_ = true;
+  bool body_symmetric_ = true;        // symmetric apart from contact multipliers
+  bool condense_reported_ = false;
   VecX u_, u_converged_, reactions_;
   VecX last_du_;          // displacement change of the last converged increment of this step
   Real last_dl_ = 0;      // its size (0: no predictor available)

@@ -109,20 +109,32 @@ class LagrangeMultipliers final : public Enforcement {
         // Newton derivative; closed lets a body held only by contact start from touching.
         const bool active = hold > 0 || (hold == 0 && lambda - c0 * c.gap >= 0);
         out.active[j] = active;
+        // Open: the multiplier row F = w lambda drives lambda to 0, and the node puts no force
+        // on the bodies (the force is lambda on the active set only, as in the primal-dual
+        // active set method, Hueber & Wohlmuth 2005): a node released in tension then adds
+        // neither its force nor its -lambda w hess g to the tangent, which would make the
+        // bodies' block indefinite.
+        if (!active) {
+#pragma omp atomic
+          residual(ldof) -= c.weight * lambda;
+          if (K) {
+            MatX one = MatX::Constant(1, 1, c.weight);
+            K->add(&ldof, 1, one);
+          }
+          continue;
+        }
         constraint_dofs(c, *in.dofs, in.dim, dofs);
         const int m = static_cast<int>(dofs.size());
         // Displacement rows: f_c = lambda w grad g.
         add_vector(residual, dofs, c.grad, lambda * c.weight);
-        // Multiplier row: F = c w g (active) or w lambda (inactive); R = -F.
-        const Real f = active ? c0 * c.weight * c.gap : c.weight * lambda;
+        // Multiplier row: F = c w g; R = -F.
 #pragma omp atomic
-        residual(ldof) -= f;
+        residual(ldof) -= c0 * c.weight * c.gap;
         if (K) {
           k.setZero(m + 1, m + 1);
           k.topLeftCorner(m, m) = -lambda * c.weight * c.hess;
           k.block(0, m, m, 1) = -c.weight * c.grad;
-          if (active) k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
-          else k(m, m) = c.weight;
+          k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
           dofs.push_back(ldof);
           K->add(dofs.data(), m + 1, k);
         }

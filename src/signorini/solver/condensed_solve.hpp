@@ -1,0 +1,32 @@
+// The semi-smooth Newton system of contact multipliers solved without its multipliers: each
+// closed constraint's row a . du = r eliminates one DOF of its slave node (master-slave
+// elimination of a linear multi-point constraint), each open one fixes its multiplier, and
+// what remains is the displacement system T^T J T, symmetric when the bodies' tangent is, so
+// Cholesky or CG can solve it. The multipliers are recovered from the eliminated DOFs' rows.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "signorini/fem/global_system.hpp"
+#include "signorini/solver/linear_solver.hpp"
+
+namespace signorini {
+
+class CondensedContactSolver {
+ public:
+  explicit CondensedContactSolver(bool three_d) : solver_("auto", three_d) {}
+  // J dz = r with `is_multiplier` flagging the multiplier unknowns; `symmetric`: whether J
+  // is symmetric apart from its multiplier rows and columns. Returns false (dz untouched)
+  // when the structure does not allow the elimination: a closed constraint with no DOF of
+  // its own (two-pass, a slave node that is also a master node); the caller then solves the
+  // whole system. Throws SolverError when the reduced system is singular.
+  bool solve(const SparseMatrix& J, const std::vector<char>& is_multiplier, bool symmetric, const VecX& r, VecX& dz);
+  std::string last_used() const { return solver_.last_used(); }
+  std::string why_not() const { return why_not_; }
+
+ private:
+  AutoLinearSolver solver_;
+  std::string why_not_;
+};
+
+}  // namespace signorini
