@@ -5,6 +5,7 @@
 
 #include "common.hpp"
 #include "signorini/contact/contact_interface.hpp"
+#include "signorini/core/error.hpp"
 
 using namespace signorini;
 using signorini::test::DenseMatrix;
@@ -160,3 +161,143 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
     EXPECT_LT(maxerr, 1e-6 * K.k.cwiseAbs().maxCoeff()) << method;
   }
 }
+
+// ---------------------------------------------------------------------------------------
+// Friction (penalty): the return map, and the frictional residual's tangent against central
+// differences with sticking and slipping nodes mixed, for node-to-segment (2D, 3D),
+// node-to-node and a rigid obstacle with its own unknowns.
+
+TEST(Friction, ReturnMapStickSlipAndApex) {
+  const Vec3 trial(0.3, -0.4, 0.0);  // |trial| = 0.5
+  ReturnMap st = return_map(trial, 0.6);
+  EXPECT_FALSE(st.slip);
+  EXPECT_EQ(st.traction, trial);
+  ReturnMap sl = return_map(trial, 0.2);
+  EXPECT_TRUE(sl.slip);
+  EXPECT_NEAR(sl.traction.norm(), 0.2, 1e-15);
+  EXPECT_NEAR(sl.traction.dot(trial) / (0.2 * 0.5), 1.0, 1e-15) << "slip keeps the trial direction";
+  ReturnMap apex = return_map(trial, 0.0);
+  EXPECT_TRUE(apex.slip);
+  EXPECT_EQ(apex.traction, Vec3::Zero());
+  // Derivatives in the slip state against central differences.
+  const Real h = 1e-7;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 tp = trial, tm = trial;
+    tp(k) += h;
+    tm(k) -= h;
+    const Vec3 fd = (return_map(tp, 0.2).traction - return_map(tm, 0.2).traction) / (2 * h);
+    EXPECT_LT((fd - sl.d_trial.col(k)).norm(), 1e-7) << k;
+  }
+  const Vec3 fdb = (return_map(trial, 0.2 + h).traction - return_map(trial, 0.2 - h).traction) / (2 * h);
+  EXPECT_LT((fdb - sl.d_bound).norm(), 1e-7);
+  auto coulomb = make_friction_law("coulomb", 0.3);
+  EXPECT_DOUBLE_EQ(coulomb->bound(2.0), 0.6);
+  EXPECT_DOUBLE_EQ(coulomb->bound(-1.0), 0.0);
+  EXPECT_DOUBLE_EQ(make_friction_law("tresca", 0.7)->bound(5.0), 0.7);
+  EXPECT_THROW(make_friction_law("stribeck", 1.0), Error);
+}
+
+namespace {
+struct FrictionCase {
+  std::string discretization;
+  bool three_d;
+  bool rigid;
+};
+std::string friction_name(const ::testing::TestParamInfo<FrictionCase>& i) {
+  return i.param.rigid ? std::string("rigid_cylinder") : i.param.discretization + (i.param.three_d ? "_3d" : "_2d");
+}
+}  // namespace
+
+class FrictionTangent : public ::testing::TestWithParam<FrictionCase> {};
+
+TEST_P(FrictionTangent, MatchesCentralDifferences) {
+  const FrictionCase fc = GetParam();
+  const bool ntn = fc.discretization == "node_to_node";
+  const ElementType type = fc.three_d ? ElementType::hex8 : ElementType::quad4;
+  Mesh mesh = fc.rigid ? structured_rectangle(ElementType::quad4, 6, 2, 1.0, 0.5)
+              : fc.three_d
+                  ? test::two_blocks(type, 3, ntn ? 3 : 4, 1.0, 0.5, Vec3(ntn ? 0 : 0.02, ntn ? 0 : 0.03, 0.5 - 0.01), true)
+                  : test::two_blocks(type, 3, ntn ? 3 : 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
+  orient_facets(mesh);
+  AnalysisSettings as;
+  as.dimension = fc.three_d ? Dimension::three_d : Dimension::plane_strain;
+  const int dim = as.spatial_dim();
+  std::vector<const ElementBlock*> cells;
+  for (auto& [n, blocks] : mesh.regions)
+    for (auto& b : blocks) cells.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), dim, cells);
+  // Start of the increment: the slave side pressed in; then a tangential motion of varying
+  // size, so that some closed nodes stick and others slip.
+  const Index nz = dofs.num_dofs() + (fc.rigid ? dim : 0);
+  VecX z0 = VecX::Zero(nz);
+  const int vert = dim - 1;
+  const std::string moving = fc.rigid ? "domain" : "upper_domain";
+  for (Index n : mesh.node_sets[moving]) {
+    const Vec3& X = mesh.nodes[n];
+    z0(dofs.dof(n, vert)) = (fc.rigid ? 1 : -1) * (0.004 + 0.006 * std::sin(7 * X(0) + 3 * X(1)));
+  }
+  if (fc.rigid) z0(nz - 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
+  VecX z = z0;
+  for (Index n : mesh.node_sets[moving]) {
+    const Vec3& X = mesh.nodes[n];
+    z(dofs.dof(n, 0)) += 0.004 * std::cos(5 * X(0) + 2 * X(vert)) + 0.002;
+    if (dim == 3) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
+  }
+  if (fc.rigid) z(nz - 2) = 0.003;
+  // The tangential penalty that gives a mix of sticking and slipping nodes for this motion.
+  bool checked = false;
+  for (Real epst : {4000.0, 1000.0, 16000.0, 250.0, 64000.0, 60.0}) {
+    ContactPairSettings cs;
+    cs.name = "c";
+    cs.method = "penalty";
+    cs.discretization = fc.discretization;
+    cs.friction = "coulomb";
+    cs.friction_parameter = 0.3;
+    cs.tangential_penalty = epst;
+    if (fc.rigid) {
+      cs.slave = "ymax";
+      cs.rigid = true;
+      cs.obstacle.shape = "cylinder";
+      cs.obstacle.point = Vec3(0.5, 1.5, 0);
+      cs.obstacle.radius = 1.0;
+    } else {
+      cs.master = fc.three_d ? "lower_zmax" : "lower_ymax";
+      cs.slave = fc.three_d ? "upper_zmin" : "upper_ymin";
+    }
+    ContactInterface ci(cs, mesh, as, 100.0, false);
+    ASSERT_TRUE(ci.frictional());
+    ASSERT_FALSE(ci.symmetric());
+    ci.set_multiplier_offset(dofs.num_dofs());
+    ci.set_obstacle_dofs(dofs.num_dofs());
+    ci.detect(test::cells_of_positions(mesh, dofs, z0), 0.05);
+    ci.begin_increment(test::cells_of_positions(mesh, dofs, z0), z0);
+    auto residual = [&](const VecX& zz, GlobalMatrix* K) {
+      VecX r = VecX::Zero(nz);
+      ci.assemble(test::cells_of_positions(mesh, dofs, zz), zz, dofs, r, K);
+      return r;
+    };
+    DenseMatrix K(nz);
+    residual(z, &K);
+    Index stick = 0, slip = 0;
+    for (size_t j = 0; j < ci.constraints().size(); ++j)
+      if (ci.state().active[j] && ci.constraints()[j].has_slip) ci.state().slip[j] ? ++slip : ++stick;
+    if (stick == 0 || slip == 0) continue;
+    std::printf("%s: eps_T %g, %lld stick, %lld slip\n", friction_name({fc, 0}).c_str(), epst, (long long)stick,
+                (long long)slip);
+    const Real maxerr =
+        test::central_difference_error([&](const VecX& zz) { return residual(zz, nullptr); }, z, K.k, 1e-7);
+    EXPECT_LT(maxerr, 1e-6 * K.k.cwiseAbs().maxCoeff());
+    EXPECT_GT((K.k - K.k.transpose()).cwiseAbs().maxCoeff(), 1e-6 * K.k.cwiseAbs().maxCoeff())
+        << "the frictional tangent should be unsymmetric";
+    checked = true;
+    break;
+  }
+  EXPECT_TRUE(checked) << "no tangential penalty gave both sticking and slipping nodes: nothing was checked";
+}
+
+INSTANTIATE_TEST_SUITE_P(Penalty, FrictionTangent,
+                         ::testing::Values(FrictionCase{"node_to_segment", false, false},
+                                           FrictionCase{"node_to_segment", true, false},
+                                           FrictionCase{"node_to_node", false, false},
+                                           FrictionCase{"node_to_segment", false, true}),
+                         friction_name);

@@ -234,7 +234,15 @@ TEST(Deck, ContactSectionErrors) {
   auto m = error_of("c_set", replace(kContact, "master: Top", "master: Roof"));
   EXPECT_MESSAGE(m, "c_set.yaml:17", "contact[0].master", "'Roof'", "Bottom, Left, Right, Top");
   m = error_of("c_friction", kContact + "    friction: {law: coulomb, mu: 0.3}\n");
-  EXPECT_MESSAGE(m, "c_friction.yaml:19", "contact[0].friction", "not available yet");
+  EXPECT_MESSAGE(m, "c_friction.yaml:19", "contact[0].friction", "enforcement: {method: penalty} only", "lagrange");
+  m = error_of("c_mu", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb}\n");
+  EXPECT_MESSAGE(m, "c_mu.yaml:20", "contact[0].friction", "needs 'mu'");
+  m = error_of("c_mu_neg", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb, mu: -0.1}\n");
+  EXPECT_MESSAGE(m, "c_mu_neg.yaml:20", "contact[0].friction.mu");
+  m = error_of("c_law", kContact + "    enforcement: {method: penalty}\n    friction: {law: stribeck}\n");
+  EXPECT_MESSAGE(m, "c_law.yaml:20", "contact[0].friction.law", "coulomb, tresca, none");
+  m = error_of("c_bound", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb, mu: 0.2, bound: 3}\n");
+  EXPECT_MESSAGE(m, "c_bound.yaml:20", "contact[0].friction.bound", "law: tresca");
   m = error_of("c_same", replace(kContact, "slave: Bottom", "slave: Top"));
   EXPECT_MESSAGE(m, "c_same.yaml:18", "same facet set");
   m = error_of("c_passes", kContact + "    discretization: node_to_node\n    passes: 2\n");

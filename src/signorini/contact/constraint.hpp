@@ -21,6 +21,16 @@ struct Constraint {
   std::vector<Index> extra_dofs;  // unknowns after the nodes' (a rigid obstacle's displacement)
   VecX grad;                 // d gap / d x (dim per node, then the extra DOFs)
   MatX hess;                 // d2 gap / d x2
+  // The closest master point as a combination of nodes[1..] (friction: where the slave node
+  // touches the master material).
+  std::vector<Real> master_weights;
+  // Friction kinematics, set by the contact interface for a pair with friction: d = x_s - x_0
+  // with x_0 the master material point that was closest at the start of the increment (its
+  // tangential part is the slip of the increment, course: g_t dt = delta rho(xi)), and
+  // D = dd/dz over the DOFs of `nodes` then `extra_dofs` (dim rows, constant).
+  bool has_slip = false;
+  Vec3 slip = Vec3::Zero();
+  MatX slip_jacobian;
 };
 
 using ConstraintSet = std::vector<Constraint>;

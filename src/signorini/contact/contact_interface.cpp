@@ -84,6 +84,19 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   shift_committed_.assign(n, 0.0);
   facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
   dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_;
+  if (s_.friction != "none") {
+    if (s_.method != "penalty")
+      throw Error("contact '" + s_.name + "': friction works with penalty enforcement only in this version");
+    friction_ = make_friction_law(s_.friction, s_.friction_parameter);
+    tangential_stiffness_.resize(n);
+    for (Index j = 0; j < n; ++j) tangential_stiffness_[j] = s_.tangential_penalty > 0 ? s_.tangential_penalty : stiffness_[j];
+    origin_.assign(n, {});
+    origin_point_.assign(n, Vec3::Zero());
+    has_origin_.assign(n, 0);
+    traction_old_.assign(n, Vec3::Zero());
+    slip_increment_.assign(n, 0.0);
+    slip_accumulated_.assign(n, 0.0);
+  }
   for (ElementType t : master_.type)
     if (element_info(t).num_corners != facets_.corners)
       throw Error("contact '" + s_.name + "': the master surface '" + s_.master +
@@ -147,32 +160,95 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
         for (Index n : nodes) add_node(n);
       }
     }
+    if (frictional() && has_origin_[j])
+      for (auto [node, w] : origin_[j]) add_node(node);
     if (uses_multipliers()) g.push_back(offset_ + static_cast<Index>(j));
     for (int d = 0; d < num_obstacle_dofs(); ++d) g.push_back(obstacle_dofs_ + d);
     out.push_back(std::move(g));
   }
 }
 
-void ContactInterface::begin_increment() {
+void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z) {
   std::fill(flips_.begin(), flips_.end(), 0);
   std::fill(forced_.begin(), forced_.end(), 0);
   last_active_ = committed_active_;
   frozen_reported_ = 0;
   shift_ = shift_committed_;
+  if (!frictional()) return;
+  // The slip origins: where each slave node touches the master material now.
+  build_constraints(x, z);
+  const Vec3 offset = obstacle_offset(z);
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    has_origin_[j] = c.kind != ConstraintKind::none;
+    origin_[j].clear();
+    if (!has_origin_[j]) continue;
+    if (s_.rigid) {
+      origin_point_[j] = x[c.slave] - c.gap * c.normal - offset;
+      continue;
+    }
+    for (size_t k = 0; k < c.master_weights.size(); ++k) origin_[j].emplace_back(c.nodes[k + 1], c.master_weights[k]);
+  }
 }
 
-void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
-                                GlobalMatrix* K) {
-  if (s_.rigid) {
-    Vec3 offset = Vec3::Zero();
+Vec3 ContactInterface::obstacle_offset(const VecX& z) const {
+  Vec3 offset = Vec3::Zero();
+  if (s_.rigid)
     for (int d = 0; d < dim_; ++d) offset(d) = z(obstacle_dofs_ + d);
-    rigid_obstacle_constraints(s_.obstacle, offset, obstacle_dofs_, slave_, x, dim_, std::max(dmax_, 1e-300),
-                               constraints_);
-  }
+  return offset;
+}
+
+void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX& z) {
+  if (s_.rigid)
+    rigid_obstacle_constraints(s_.obstacle, obstacle_offset(z), obstacle_dofs_, slave_, x, dim_,
+                               std::max(dmax_, 1e-300), constraints_);
   else if (s_.discretization == "node_to_node")
     node_to_node(slave_, candidate_, nts_normal_, x, dim_, constraints_);
   else
     node_to_segment(master_, slave_, x, dim_, candidate_, constraints_);
+}
+
+void ContactInterface::add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z) {
+  // d = x_s - x_0 over the constraint's DOFs; origin nodes the constraint does not hold yet
+  // are appended to it (with zero gap derivatives).
+  const Vec3 offset = obstacle_offset(z);
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    Constraint& c = constraints_[j];
+    c.has_slip = false;
+    if (c.kind == ConstraintKind::none || !has_origin_[j]) continue;
+    if (!s_.rigid)
+      for (auto [node, w] : origin_[j]) {
+        if (std::find(c.nodes.begin(), c.nodes.end(), node) != c.nodes.end()) continue;
+        const Index old = c.grad.size();  // no extra DOFs on a deformable master
+        c.nodes.push_back(node);
+        c.grad.conservativeResize(old + dim_);
+        c.grad.tail(dim_).setZero();
+        c.hess.conservativeResize(old + dim_, old + dim_);
+        c.hess.rightCols(dim_).setZero();
+        c.hess.bottomRows(dim_).setZero();
+      }
+    const Index cols = c.grad.size();
+    c.slip_jacobian.setZero(dim_, cols);
+    c.slip = x[c.slave];
+    for (int d = 0; d < dim_; ++d) c.slip_jacobian(d, d) = 1;
+    if (s_.rigid) {
+      c.slip -= origin_point_[j] + offset;
+      for (int d = 0; d < dim_; ++d) c.slip_jacobian(d, static_cast<Index>(c.nodes.size()) * dim_ + d) = -1;
+    } else {
+      for (auto [node, w] : origin_[j]) {
+        c.slip -= w * x[node];
+        const Index k = std::find(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin();
+        for (int d = 0; d < dim_; ++d) c.slip_jacobian(d, k * dim_ + d) -= w;
+      }
+    }
+    c.has_slip = true;
+  }
+}
+
+void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
+                                GlobalMatrix* K) {
+  build_constraints(x, z);
+  if (frictional()) add_slip_kinematics(x, z);
   EnforcementInput in;
   in.constraints = &constraints_;
   in.dofs = &dofs;
@@ -181,6 +257,11 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   in.multiplier_offset = offset_;
   in.forced = &forced_;
   if (augmented()) in.shift = &shift_;
+  if (frictional()) {
+    in.friction = friction_.get();
+    in.tangential_stiffness = &tangential_stiffness_;
+    in.traction_old = &traction_old_;
+  }
   enforcement_->assemble(in, z, residual, K, state_);
 }
 
@@ -229,7 +310,14 @@ std::vector<ContactInterface::SlaveState> ContactInterface::slave_states() const
     const Real p = j < reported_pressure_.size() ? reported_pressure_[j]
                    : j < state_.pressure.size()  ? state_.pressure[j]
                                                  : 0.0;
-    out.push_back({c.slave, !has ? 0 : (closed ? 2 : 1), has ? c.gap : std::numeric_limits<Real>::quiet_NaN(), p});
+    SlaveState st{c.slave, !has ? 0 : (closed ? 2 : 1), has ? c.gap : std::numeric_limits<Real>::quiet_NaN(), p};
+    if (frictional()) {
+      if (closed && j < state_.slip.size() && state_.slip[j]) st.status = 3;
+      if (closed && j < state_.traction.size()) st.traction = -state_.traction[j];
+      st.slip_increment = slip_increment_[j];
+      st.slip_accumulated = slip_accumulated_[j];
+    }
+    out.push_back(st);
   }
   return out;
 }
@@ -304,6 +392,16 @@ ContactStats ContactInterface::commit() {
   }
   committed_active_ = state_.active;
   shift_committed_ = shift_;
+  if (frictional())
+    for (size_t j = 0; j < constraints_.size(); ++j) {
+      const Constraint& c = constraints_[j];
+      const bool closed = state_.active[j] && c.has_slip;
+      traction_old_[j] = closed ? state_.traction[j] : Vec3::Zero();
+      slip_increment_[j] = closed ? (c.slip - c.normal * c.normal.dot(c.slip)).norm() : 0.0;
+      slip_accumulated_[j] += slip_increment_[j];
+      if (closed) (state_.slip[j] ? st.slipping : st.sticking)++;
+      if (closed) st.force -= c.weight * state_.traction[j];  // friction on the slave side
+    }
   return st;
 }
 

@@ -23,6 +23,7 @@ struct ContactStats {
   Index frozen = 0;       // nodes held closed by the chattering guard
   Real max_penetration = 0;
   Vec3 force = Vec3::Zero();  // total contact force on the slave side
+  Index sticking = 0, slipping = 0;  // friction: closed nodes that stick, that slip
 };
 
 class ContactInterface {
@@ -34,7 +35,9 @@ class ContactInterface {
   const std::string& label() const { return label_; }
   const ContactPairSettings& settings() const { return s_; }
   bool uses_multipliers() const { return enforcement_->uses_multipliers(); }
-  bool symmetric() const { return enforcement_->symmetric(); }
+  bool symmetric() const { return enforcement_->symmetric() && !frictional(); }
+  // A friction law other than frictionless.
+  bool frictional() const { return friction_ != nullptr; }
   Index num_multipliers() const { return uses_multipliers() ? static_cast<Index>(slave_.nodes.size()) : 0; }
   void set_multiplier_offset(Index o) { offset_ = o; }
   Index multiplier_offset() const { return offset_; }
@@ -52,7 +55,10 @@ class ContactInterface {
   void detect(const std::vector<Vec3>& x, Real max_step);
   // DOF groups the constraints may couple (for the sparse pattern).
   void couplings(const DofMap& dofs, std::vector<std::vector<Index>>& out) const;
-  void begin_increment();
+  // At the start of an increment, at the converged state (x, z): resets the chattering guard
+  // and, with friction, records each slave node's closest master material point (the origin
+  // of its slip in this increment).
+  void begin_increment(const std::vector<Vec3>& x, const VecX& z);
   // Builds the constraints at x and adds the contact forces (and tangent) to the system.
   void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K);
   bool augmented() const { return s_.method == "augmented_lagrangian"; }
@@ -75,9 +81,12 @@ class ContactInterface {
   // The state of each slave node for output: 0 no master within reach, 1 open, 2 closed.
   struct SlaveState {
     Index node;
-    int status;
+    int status;     // 0 far, 1 open, 2 closed (stick, with friction), 3 slip
     Real gap;       // NaN when no master is within reach
     Real pressure;  // positive in compression
+    Vec3 traction = Vec3::Zero();   // friction: tangential traction on the slave
+    Real slip_increment = 0;        // friction: |tangential slip| in the last increment
+    Real slip_accumulated = 0;      // friction: sum of the slip increments
   };
   std::vector<SlaveState> slave_states() const;
   // Adds the force each constraint puts on its nodes (its multiplier, or penalty force, times
@@ -117,6 +126,19 @@ class ContactInterface {
   Index obstacle_dofs_ = -1;
   std::vector<Real> shift_, shift_committed_;  // augmented Lagrangian multipliers
   std::vector<Real> reported_pressure_;        // per slave node, see set_reported_pressure
+  // Friction: the law, the tangential penalty, and per slave node the slip origin (master
+  // nodes and weights, or a point relative to a rigid obstacle's offset), the committed
+  // traction and the slip record.
+  std::unique_ptr<FrictionLaw> friction_;
+  std::vector<Real> tangential_stiffness_;
+  std::vector<std::vector<std::pair<Index, Real>>> origin_;
+  std::vector<Vec3> origin_point_;
+  std::vector<char> has_origin_;
+  std::vector<Vec3> traction_old_;
+  std::vector<Real> slip_increment_, slip_accumulated_;
+  void build_constraints(const std::vector<Vec3>& x, const VecX& z);
+  void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);
+  Vec3 obstacle_offset(const VecX& z) const;
   Real dmax_ = 0;
 };
 

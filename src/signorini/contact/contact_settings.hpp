@@ -34,6 +34,9 @@ struct ContactPairSettings {
   int max_flips = 6;                              // status changes of a node in one increment before it is frozen
   Real gap_tolerance = 0;                         // augmented Lagrangian: 0 = 1e-3 x mean slave facet size
   int max_uzawa = 30;                             // augmented Lagrangian: updates per increment
+  std::string friction = "none";                  // friction law: none, coulomb, tresca
+  Real friction_parameter = 0;                    // coulomb: mu; tresca: the bound on |t|
+  Real tangential_penalty = 0;                    // 0: automatic, the normal penalty of the node
   std::string where;                              // deck location
 };
 

@@ -439,9 +439,6 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
     cs.name = c.has("name") ? c.child("name").as_string() : "contact" + std::to_string(i + 1);
     for (auto& other : m.contacts)
       if (other.name == cs.name) c.child("name").fail("two contact pairs are named '" + cs.name + "'");
-    if (c.has("friction"))
-      c.child("friction").fail("friction is not available yet: contact is frictionless in this version (remove the "
-                               "'friction' entry)");
     auto facet_set = [&](const Node& n) { return facet_set_named(n, m.mesh); };
     const bool rigid = c.has("master") && c.child("master").node.IsMap();
     const bool automatic = !rigid && c.has("master") && c.child("master").as_string() == "auto";
@@ -523,6 +520,27 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       cs.max_flips = static_cast<int>(e.number(es, "max_flips"));
       if (e.has("gap_tolerance")) cs.gap_tolerance = auto_or_positive(e.child("gap_tolerance"));
       cs.max_uzawa = static_cast<int>(e.number(es, "max_uzawa"));
+    }
+    if (c.has("friction")) {
+      Node fn = c.child("friction");
+      const TypeSpec& fs = deck_spec(r, "friction");
+      fn.check_keys(fs);
+      cs.friction = fn.text(fs, "law");
+      if (cs.friction == "coulomb") {
+        if (!fn.has("mu")) fn.fail("coulomb friction needs 'mu' (the friction coefficient)");
+        cs.friction_parameter = fn.number(fs, "mu");
+      } else if (cs.friction == "tresca") {
+        if (!fn.has("bound")) fn.fail("tresca friction needs 'bound' (the largest tangential traction)");
+        cs.friction_parameter = fn.number(fs, "bound");
+      }
+      if (cs.friction != "coulomb" && fn.has("mu")) fn.child("mu").fail("'mu' goes with law: coulomb");
+      if (cs.friction != "tresca" && fn.has("bound")) fn.child("bound").fail("'bound' goes with law: tresca");
+      if (fn.has("penalty")) cs.tangential_penalty = auto_or_positive(fn.child("penalty"));
+      if (cs.friction != "none" && cs.method != "penalty")
+        fn.fail("friction works with enforcement: {method: penalty} only in this version (this pair uses " + cs.method +
+                "); Lagrange multipliers and the augmented Lagrangian with friction are not available yet");
+      if (cs.friction != "none" && cs.passes == 2)
+        fn.fail("friction with passes: 2 is not available (use one pass)");
     }
     if (c.has("search")) {
       Node s = c.child("search");

@@ -64,8 +64,12 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
       if (c.kind == "contact_pressure_max") {
         for (size_t j = 0; j < cs.size(); ++j) r.computed = std::max(r.computed, st.pressure[j]);
       } else if (c.kind == "contact_force") {
-        for (size_t j = 0; j < cs.size(); ++j)
-          if (cs[j].kind != ConstraintKind::none) r.computed += st.pressure[j] * cs[j].weight * cs[j].normal(c.component);
+        for (size_t j = 0; j < cs.size(); ++j) {
+          if (cs[j].kind == ConstraintKind::none) continue;
+          r.computed += st.pressure[j] * cs[j].weight * cs[j].normal(c.component);
+          // Friction: the slave is pulled by -t per unit area.
+          if (j < st.traction.size() && st.active[j]) r.computed -= cs[j].weight * st.traction[j](c.component);
+        }
       } else {
         // Half-width: midway between the outermost closed node and the nearest open one beyond.
         Real closed = 0, open = std::numeric_limits<Real>::infinity();
@@ -247,13 +251,22 @@ void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& 
   const std::vector<Vec3> x = a.positions(a.displacement());
   for (auto& c : a.contacts()) {
     const std::string name = file_label(c->label());
-    std::string text = "node,x,y,z,gap,pressure,status\n";
-    static const char* const names[] = {"far", "open", "closed"};
+    // With friction: the tangential traction on the slave node, its slip in this increment and
+    // accumulated, and closed nodes as stick or slip.
+    const bool fr = c->frictional();
+    std::string text = fr ? "node,x,y,z,gap,pressure,status,traction_x,traction_y,traction_z,slip_increment,"
+                            "slip_accumulated\n"
+                          : "node,x,y,z,gap,pressure,status\n";
+    static const char* const names[] = {"far", "open", "closed", "slip"};
     for (const auto& ns : c->slave_states()) {
       const Index n = ns.node;
-      text += fmt::format("{},{:.10e},{:.10e},{:.10e},{},{:.10e},{}\n", model_.mesh.node_ids[n], x[n](0), x[n](1),
+      text += fmt::format("{},{:.10e},{:.10e},{:.10e},{},{:.10e},{}", model_.mesh.node_ids[n], x[n](0), x[n](1),
                           x[n](2), ns.status ? fmt::format("{:.10e}", ns.gap) : std::string("nan"), ns.pressure,
-                          names[ns.status]);
+                          fr && ns.status == 2 ? "stick" : names[ns.status]);
+      if (fr)
+        text += fmt::format(",{:.10e},{:.10e},{:.10e},{:.10e},{:.10e}", ns.traction(0), ns.traction(1), ns.traction(2),
+                            ns.slip_increment, ns.slip_accumulated);
+      text += "\n";
     }
     write_file_atomically(fmt::format("{}/contact_{}_{:02d}_{:04d}.csv", dir_, name, rec.step + 1, rec.increment), text);
   }
@@ -296,9 +309,10 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
       for (size_t k = 0; k < r.contact.size(); ++k) {
         const auto& c = r.contact[k];
         j += fmt::format("{}{{\"pair\": \"{}\", \"active\": {}, \"changes\": {}, \"frozen\": {}, "
-                         "\"max_penetration\": {}, \"force\": [{}, {}, {}]}}",
-                         k ? ", " : "", json_escape(c.label), c.active, c.changes, c.frozen, json_number(c.max_penetration),
-                         json_number(c.force(0)), json_number(c.force(1)), json_number(c.force(2)));
+                         "\"stick\": {}, \"slip\": {}, \"max_penetration\": {}, \"force\": [{}, {}, {}]}}",
+                         k ? ", " : "", json_escape(c.label), c.active, c.changes, c.frozen, c.sticking, c.slipping,
+                         json_number(c.max_penetration), json_number(c.force(0)), json_number(c.force(1)),
+                         json_number(c.force(2)));
       }
       j += "]";
     }

@@ -330,9 +330,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         }
         step = std::max(step, std::sqrt(m2));
       }
-    for (auto& c : contacts_) c->begin_increment();
     log::Timer tc;
     detect_contact(step);
+    const std::vector<Vec3> x0 = positions(u_converged_);
+    for (auto& c : contacts_) c->begin_increment(x0, u_converged_);
     rebuild_pattern();
     summary_.contact_seconds += tc.seconds();
   }
@@ -558,7 +559,10 @@ AnalysisSummary Analysis::run_steps() {
       summary_.increments.push_back(rec);
       std::string contact;
       for (auto& c : rec.contact)
-        contact += fmt::format("  [{}: {} closed, {} changed]", c.label, c.active, c.changes);
+        contact += c.sticking + c.slipping > 0
+                       ? fmt::format("  [{}: {} closed ({} stick, {} slip), {} changed]", c.label, c.active,
+                                     c.sticking, c.slipping, c.changes)
+                       : fmt::format("  [{}: {} closed, {} changed]", c.label, c.active, c.changes);
       log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]{}",
                 s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
                 log::elapsed(), contact);

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
+#include "signorini/fem/shape.hpp"
 
 namespace signorini {
 
@@ -55,6 +56,10 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
       c.nodes.assign(1, c.slave);
       c.nodes.insert(c.nodes.end(), master.facets[best].begin(), master.facets[best].end());
       gap_variations(master.type[best], best_x, best_fp, dim, c.grad, c.hess);
+      VecX N;
+      MatX dN;
+      shape_functions(master.type[best], best_fp.xi, N, dN);
+      c.master_weights.assign(N.data(), N.data() + N.size());
       continue;
     }
     // Node-to-edge (3D, straight edges of linear facets): the closest point on the edges of
@@ -100,6 +105,7 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
         c.gap = eg.gap;
         c.normal = eg.normal;
         c.nodes = {c.slave, ea, eb};
+        c.master_weights = {1 - eg.eta, eg.eta};
         continue;
       }
     }
@@ -125,6 +131,7 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     c.gap = pg.gap;
     c.normal = pg.normal;
     c.nodes = {c.slave, vertex};
+    c.master_weights = {1.0};
   }
 }
 
@@ -142,6 +149,7 @@ void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_no
     c.normal = normal[j];
     c.gap = (x[c.slave] - x[master_node[j]]).dot(normal[j]);
     c.nodes = {c.slave, master_node[j]};
+    c.master_weights = {1.0};
     c.grad.setZero(2 * dim);
     for (int d = 0; d < dim; ++d) {
       c.grad(d) = normal[j](d);

@@ -33,6 +33,8 @@ class Penalty : public Enforcement {
     const Index n = static_cast<Index>(cs.size());
     out.pressure.assign(n, 0.0);
     out.active.assign(n, 0);
+    out.traction.assign(n, Vec3::Zero());
+    out.slip.assign(n, 0);
 #pragma omp parallel
     {
       std::vector<Index> dofs;
@@ -54,10 +56,41 @@ class Penalty : public Enforcement {
         if (K) {
           // -d(p w grad g)/du = eps w grad g grad g^T - p w hess g
           k = eps * c.weight * c.grad * c.grad.transpose() - p * c.weight * c.hess;
-          K->add(dofs.data(), static_cast<int>(dofs.size()), k);
         }
+        if (in.friction && c.has_slip) add_friction(in, j, c, eps, p, dofs, residual, K ? &k : nullptr, out);
+        if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
       }
     }
+  }
+
+ private:
+  // Regularized (penalty) Coulomb/Tresca friction on a closed node (Wriggers 2006, sec. 5.2):
+  // t_tr = P(n) v with v = t_old + eps_T d, t = return map of t_tr onto |t| <= bound(p), force
+  // on the DOFs f = -w D^T t. Tangent w D^T dt/dz with
+  //   dt_tr/dz = eps_T P D - n (v^T dn/dz) - (n . v) dn/dz,  dn/dz = d(dg/dx_s)/dz = the first
+  //   dim rows of the gap's Hessian (n = dg/dx_s for every discretization),
+  //   dt/dz = d_trial dt_tr/dz + d_bound bound'(p) dp/dz,  dp/dz = -eps grad g.
+  static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real eps, Real p,
+                           const std::vector<Index>& dofs, VecX& residual, MatX* k, EnforcementOutput& out) {
+    const int dim = in.dim;
+    const Real epst = (*in.tangential_stiffness)[j];
+    const Vec3 n = c.normal;
+    const Vec3 v = (*in.traction_old)[j] + epst * c.slip;
+    const Vec3 trial = v - n * n.dot(v);
+    const Real bound = in.friction->bound(p);
+    const ReturnMap rm = return_map(trial, bound);
+    out.traction[j] = rm.traction;
+    out.slip[j] = rm.slip;
+    const MatX& D = c.slip_jacobian;
+    add_vector(residual, dofs, -c.weight * (D.transpose() * rm.traction.head(dim)), 1.0);
+    if (!k) return;
+    const MatX dn = c.hess.topRows(dim);
+    MatX P = MatX::Identity(dim, dim) - n.head(dim) * n.head(dim).transpose();
+    MatX dtrial = epst * P * D - n.head(dim) * (v.head(dim).transpose() * dn) - n.dot(v) * dn;
+    MatX dt = rm.d_trial.topLeftCorner(dim, dim) * dtrial;
+    const Real db = in.friction->bound_derivative(p);
+    if (db != 0) dt -= (db * eps) * rm.d_bound.head(dim) * c.grad.transpose();
+    *k += c.weight * D.transpose() * dt;
   }
 };
 

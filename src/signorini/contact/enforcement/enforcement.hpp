@@ -5,13 +5,16 @@
 // which makes the active set change inside Newton's iterations and gives exact
 // non-penetration. Augmented Lagrangian: p = <lambda-bar - eps g> with lambda-bar updated
 // between Newton solves (Uzawa) until the penetration is below a tolerance
-// (Simo & Laursen 1992; Wriggers 2006, sec. 6.3). Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
+// (Simo & Laursen 1992; Wriggers 2006, sec. 6.3). Friction, with penalty: the trial traction
+// t_tr = P(n) (t_old + eps_T d) returned onto the friction law's disc (Wriggers 2006, sec. 5.2).
+// Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "signorini/contact/constraint.hpp"
+#include "signorini/contact/friction/friction_law.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
 
@@ -25,11 +28,18 @@ struct EnforcementInput {
   Index multiplier_offset = -1;             // first multiplier unknown (Lagrange)
   const std::vector<signed char>* forced = nullptr;  // > 0 hold closed, < 0 hold open (chattering guard)
   const std::vector<Real>* shift = nullptr;          // augmented Lagrangian: the multipliers lambda-bar
+  // Friction (penalty): the law, the tangential penalty and the committed tangential traction
+  // of each constraint; constraints with has_slip get the frictional force.
+  const FrictionLaw* friction = nullptr;
+  const std::vector<Real>* tangential_stiffness = nullptr;
+  const std::vector<Vec3>* traction_old = nullptr;
 };
 
 struct EnforcementOutput {
   std::vector<Real> pressure;  // per constraint, positive in compression
   std::vector<char> active;
+  std::vector<Vec3> traction;  // friction: tangential traction on the master (slave: minus it)
+  std::vector<char> slip;      // friction: 1 slip, 0 stick
 };
 
 class Enforcement {

@@ -1,0 +1,21 @@
+// An elastic block [0, W] x [0, H] resting on the plane y = 0, structured quadrilaterals.
+DefineConstant[ W = 1, H = 0.5, nx = 16, ny = 8 ];
+Point(1) = {0, 0, 0};
+Point(2) = {W, 0, 0};
+Point(3) = {W, H, 0};
+Point(4) = {0, H, 0};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Transfinite Curve{1, 3} = nx + 1;
+Transfinite Curve{2, 4} = ny + 1;
+Transfinite Surface{1};
+Recombine Surface{1};
+Physical Surface("Block") = {1};
+Physical Curve("Bottom") = {1};
+Physical Curve("Right") = {2};
+Physical Curve("Top") = {3};
+Physical Curve("Left") = {4};

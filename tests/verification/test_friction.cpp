@@ -1,0 +1,82 @@
+// Coulomb friction on the block of examples/friction_block (VALIDATION.md: "a block on a plane
+// under normal then tangential load"): pressed by q = 10 (N = 10 per unit thickness), then
+// pushed by a tangential traction T on its top. Below mu N it sticks, the friction force
+// equals T; above mu N there is no static equilibrium: the run gives up, its last converged
+// load just below mu N (the exact onset of sliding).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hertz_runner.hpp"
+
+using namespace signorini;
+
+namespace {
+
+std::string block_deck(const std::string& drag_step) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "friction_block";
+  std::ifstream in(dir / "friction_block.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string deck = ss.str();
+  deck.replace(deck.find("file: friction_block.geo"), 24, "file: " + (dir / "friction_block.geo").string());
+  const size_t a = deck.find("  - name: drag"), b = deck.find("checks:");
+  deck.replace(a, b - a, drag_step);
+  return deck;
+}
+
+}  // namespace
+
+TEST(Friction, BlockOnPlaneSticksBelowMuNAndSlidesAbove) {
+  const Real mu = 0.3, N = 10;
+  for (Real ratio : {0.95, 1.05}) {
+    const Real T = ratio * mu * N;  // traction on a top of length 1: total force T
+    const std::string step = "  - name: push\n"
+                             "    increments: {initial: 0.1, max: 0.1, min: 1e-4}\n"
+                             "    loads:\n"
+                             "      - {set: Top, pressure: 10}\n"
+                             "      - {set: Top, traction: [" +
+                             std::to_string(T) + ", 0]}\n";
+    test::HertzRun r = test::run_deck_text(block_deck(step), "friction_block");
+    const auto& last = r.summary.increments.back();
+    const Real reached = last.step == 1 ? last.fraction * T : 0.0;
+    std::printf("T = %.2f mu N: %s, last converged tangential load %.6f (mu N = %.1f), friction force %.6f\n", ratio,
+                r.summary.completed ? "completed" : "gave up", reached, mu * N,
+                r.summary.completed ? -r.checks[0].computed : 0.0);
+    if (ratio < 1) {
+      ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+      EXPECT_NEAR(r.checks[0].computed, -T, 1e-6 * T) << "the friction force balances the load";
+      EXPECT_NEAR(r.checks[1].computed, N, 1e-6 * N);
+    } else {
+      EXPECT_FALSE(r.summary.completed) << "a load above mu N cannot be held";
+      EXPECT_LE(reached, mu * N * (1 + 1e-9));
+      EXPECT_GT(reached, 0.99 * mu * N) << "the onset of sliding is at mu N";
+    }
+  }
+}
+
+TEST(Friction, DraggedBlockFrictionForceIsMuN) {
+  // The example itself: displacement-driven, all nodes slip at the end; its checks hold
+  // (friction force mu N to 1e-6) and the force never exceeds mu N on the way.
+  test::HertzRun r = test::run_deck_text(block_deck(
+                                             "  - name: drag\n"
+                                             "    increments: {initial: 0.05, max: 0.05}\n"
+                                             "    boundary:\n"
+                                             "      - {set: Top, ux: {ramp: [0, 0.02]}}\n"
+                                             "    loads:\n"
+                                             "      - {set: Top, pressure: 10}\n"),
+                                         "friction_drag");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  for (auto& c : r.checks) EXPECT_TRUE(c.pass) << c.check.name << " " << c.computed;
+  Index stick_seen = 0;
+  for (auto& inc : r.summary.increments)
+    for (auto& c : inc.contact) {
+      EXPECT_LE(std::abs(c.force(0)), 3 * (1 + 1e-9)) << "friction above mu N";
+      stick_seen += c.sticking;
+    }
+  EXPECT_GT(stick_seen, 0) << "the block should stick before it slides";
+  EXPECT_EQ(r.summary.increments.back().contact[0].sticking, 0) << "all nodes slip at the end";
+}
