@@ -10,7 +10,7 @@ sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(0.02 0.015 0.012 0.01 0.008)
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-printf "%-7s %8s %6s %9s %9s %9s %9s %9s %8s %8s\n" hc dofs iters total_s assemb_s contact_s solve_s mem_MiB p0_err a_err
+printf "%-7s %8s %6s %9s %9s %9s %9s %9s %8s %8s  %s\n" hc dofs iters total_s assemb_s contact_s solve_s mem_MiB p0_err a_err solver
 for hc in "${sizes[@]}"; do
   sed -e "s|hc: [0-9.]*|hc: $hc|" -e "s|file: hertz_sphere_3d.geo|file: $here/examples/hertz_sphere_3d/hertz_sphere_3d.geo|" \
     "$here/examples/hertz_sphere_3d/hertz_sphere_3d.yaml" > "$work/deck.yaml"
@@ -18,6 +18,7 @@ for hc in "${sizes[@]}"; do
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
   errs=$(grep -o '"error": [^,]*' "$s" | sed 's/.*: //' | head -2 | tr '\n' ' ')
-  printf "%-7s %8s %6s %9.2f %9.2f %9.2f %9.2f %9.0f %8.4f %8.4f\n" "$hc" "$(get dofs)" "$(get total_iterations)" \
-    "$(get total_s)" "$(get assembly_s)" "$(get contact_s)" "$(get linear_solve_s)" "$(get peak_memory_mib)" $errs
+  solver=$(grep -o '"linear_solver": "[^"]*"' "$s" | tail -1 | sed 's/.*: //; s/"//g')
+  printf "%-7s %8s %6s %9.2f %9.2f %9.2f %9.2f %9.0f %8.4f %8.4f  %s\n" "$hc" "$(get dofs)" "$(get total_iterations)" \
+    "$(get total_s)" "$(get assembly_s)" "$(get contact_s)" "$(get linear_solve_s)" "$(get peak_memory_mib)" $errs "$solver"
 done
