@@ -597,7 +597,7 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
     ch.expected = c.number(spec, "expected");
     ch.tolerance = c.number(spec, "tolerance");
     ch.reference = c.text(spec, "reference");
-    if (ch.kind == "displacement" || ch.kind == "contact_half_width") {
+    if (ch.kind == "displacement" || ch.kind == "contact_half_width" || ch.kind == "contact_stick_half_width") {
       if (!c.has("at")) c.fail("a " + ch.kind + " check needs 'at: [x, y(, z)]'");
       ch.point = c.child("at").vector(m.settings.spatial_dim());
     }
@@ -613,6 +613,11 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
       bool found = false;
       for (auto& cp : m.contacts) found = found || cp.name == ch.pair;
       if (!found) c.child("pair").fail("no contact pair named '" + ch.pair + "'");
+    }
+    if (ch.kind == "contact_stick_half_width") {
+      bool frictional = false;
+      for (auto& cp : m.contacts) frictional = frictional || (cp.name == ch.pair && cp.friction != "none");
+      if (!frictional) c.child("quantity").fail("contact_stick_half_width needs a contact pair with friction");
     }
     m.checks.push_back(ch);
   }

@@ -297,9 +297,12 @@ void register_deck_sections(Registry& r) {
           choice("quantity",
                  "displacement (node nearest 'at'), reaction (sum over a node set), contact_pressure_max, "
                  "contact_half_width (distance from 'at' along 'component' to the edge of the closed zone: midway "
-                 "between the outermost closed slave node and the next open one) or contact_force (total, on the "
-                 "slave side) of the contact pair 'pair'",
-                 {"displacement", "reaction", "contact_pressure_max", "contact_half_width", "contact_force"},
+                 "between the outermost closed slave node and the next open one; the mean of both sides if the zone "
+                 "spans both) or contact_force (total, on the "
+                 "slave side) of the contact pair 'pair', or contact_stick_half_width (friction: as contact_half_width "
+                 "for the stick zone, between the outermost sticking node and the next slipping one)",
+                 {"displacement", "reaction", "contact_pressure_max", "contact_half_width", "contact_force",
+                  "contact_stick_half_width"},
                  std::nullopt),
           opt(text("pair", "contact pair name (contact quantities)", std::nullopt)),
           opt(text("at", "point (displacement)", std::nullopt, ParamKind::vector)),

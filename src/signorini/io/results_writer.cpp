@@ -71,17 +71,30 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
           if (j < st.traction.size() && st.active[j]) r.computed -= cs[j].weight * st.traction[j](c.component);
         }
       } else {
-        // Half-width: midway between the outermost closed node and the nearest open one beyond.
-        Real closed = 0, open = std::numeric_limits<Real>::infinity();
-        for (size_t j = 0; j < cs.size(); ++j) {
-          const Real d = std::abs(x[cs[j].slave](c.component) - c.point(c.component));
-          if (st.active[j]) closed = std::max(closed, d);
-        }
-        for (size_t j = 0; j < cs.size(); ++j) {
-          const Real d = std::abs(x[cs[j].slave](c.component) - c.point(c.component));
-          if (!st.active[j] && d > closed) open = std::min(open, d);
-        }
-        r.computed = std::isfinite(open) ? 0.5 * (closed + open) : closed;
+        // Half-width: on each side of `at`, midway between the outermost closed node and the
+        // nearest open one beyond (stick zone: the outermost sticking node and the nearest
+        // closed node beyond that slips); the mean of the two sides when the zone spans both (a
+        // zone shifted by the discretization), else the larger (half models).
+        const bool stick = c.kind == "contact_stick_half_width";
+        auto inside = [&](size_t j) {
+          return stick ? st.active[j] && j < st.slip.size() && !st.slip[j] && cs[j].has_slip : st.active[j] != 0;
+        };
+        auto edge = [&](Real side) {
+          Real closed = 0, open = std::numeric_limits<Real>::infinity();
+          for (size_t j = 0; j < cs.size(); ++j) {
+            const Real d = side * (x[cs[j].slave](c.component) - c.point(c.component));
+            if (d >= 0 && inside(j)) closed = std::max(closed, d);
+          }
+          for (size_t j = 0; j < cs.size(); ++j) {
+            const Real d = side * (x[cs[j].slave](c.component) - c.point(c.component));
+            if (!inside(j) && (!stick || st.active[j]) && d > closed) open = std::min(open, d);
+          }
+          return std::isfinite(open) ? 0.5 * (closed + open) : closed;
+        };
+        // A half model (symmetry at `at`) has the zone on one side only: a node on the axis
+        // gives the other side an edge near 0.
+        const Real ep = edge(1), em = edge(-1);
+        r.computed = std::min(ep, em) > 0.5 * std::max(ep, em) ? 0.5 * (ep + em) : std::max(ep, em);
       }
     }
     r.error = c.expected != 0 ? std::abs(r.computed - c.expected) / std::abs(c.expected)

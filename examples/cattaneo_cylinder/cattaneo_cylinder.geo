@@ -1,0 +1,46 @@
+// Cattaneo-Mindlin partial slip in plane strain: the lower half of a cylinder (radius R,
+// centre (0, R)) on a block [-W, W] x [-H, 0], full model (the tangential load breaks the
+// symmetry). Elements of size hc within `zone` of the contact point, growing to hf.
+DefineConstant[ R = 10, W = 10, H = 10, hc = 0.005, hf = 1.0, zone = 0.25 ];
+Point(1) = {-W, -H, 0, hf};
+Point(2) = {W, -H, 0, hf};
+Point(3) = {W, 0, 0, hf};
+Point(4) = {0, 0, 0, hc};
+Point(5) = {-W, 0, 0, hf};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 5};
+Line(5) = {5, 1};
+Curve Loop(1) = {1, 2, 3, 4, 5};
+Plane Surface(1) = {1};
+Point(6) = {0, 0, 0, hc};
+Point(7) = {0, R, 0, hf};
+Point(8) = {R, R, 0, hf};
+Point(9) = {-R, R, 0, hf};
+Circle(6) = {9, 7, 6};
+Circle(7) = {6, 7, 8};
+Line(8) = {8, 7};
+Line(9) = {7, 9};
+Curve Loop(2) = {6, 7, 8, 9};
+Plane Surface(2) = {2};
+Field[1] = Distance;
+Field[1].PointsList = {4, 6};
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = hc;
+Field[2].SizeMax = hf;
+Field[2].DistMin = zone;
+Field[2].DistMax = 40 * zone;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm = 6;
+Mesh.RecombineAll = 1;
+Physical Surface("Block") = {1};
+Physical Surface("Cylinder") = {2};
+Physical Curve("BlockBottom") = {1};
+Physical Curve("BlockTop") = {3, 4};
+Physical Curve("CylinderSurface") = {6, 7};
+Physical Curve("CylinderTop") = {8, 9};
