@@ -1,0 +1,41 @@
+// Klang's pin in a hole (VALIDATION.md sec. 3), half model x >= 0, in metres. Plate: a disk
+// of radius Rout with a hole of radius R centred at the origin; pin: radius r = R - c,
+// centred at (0, -c), touching the hole at (0, -R). Element size h on the lower half of the
+// hole and of the pin (the contact zone), growing to 4 h at the top and hf at the rim.
+DefineConstant[ R = 0.06, c = 1e-5, Rout = 1.0, h = 0.0005, hf = 0.1 ];
+r = R - c;
+Point(1) = {0, 0, 0, h};
+Point(2) = {0, -R, 0, h};
+Point(3) = {R, 0, 0, h};
+Point(4) = {0, R, 0, 4 * h};
+Point(5) = {0, -Rout, 0, hf};
+Point(6) = {Rout, 0, 0, hf};
+Point(7) = {0, Rout, 0, hf};
+Circle(1) = {2, 1, 3};
+Circle(2) = {3, 1, 4};
+Line(3) = {4, 7};
+Circle(4) = {7, 1, 6};
+Circle(5) = {6, 1, 5};
+Line(6) = {5, 2};
+Curve Loop(1) = {1, 2, 3, 4, 5, 6};
+Plane Surface(1) = {1};
+Point(11) = {0, -c, 0, 8 * h};
+Point(12) = {0, -c - r, 0, h};
+Point(13) = {r, -c, 0, h};
+Point(14) = {0, -c + r, 0, 4 * h};
+Circle(11) = {12, 11, 13};
+Circle(12) = {13, 11, 14};
+Line(13) = {14, 11};
+Line(14) = {11, 12};
+Curve Loop(2) = {11, 12, 13, 14};
+Plane Surface(2) = {2};
+Mesh.Algorithm = 6;
+Mesh.RecombineAll = 1;
+Physical Surface("Plate") = {1};
+Physical Surface("Pin") = {2};
+Physical Curve("Hole") = {1, 2};
+Physical Curve("PinSurface") = {11, 12};
+Physical Curve("PlateRim") = {4, 5};
+Physical Curve("PlateAxis") = {3, 6};
+Physical Curve("PinAxis") = {13, 14};
+Physical Point("PinCentre") = {11};
