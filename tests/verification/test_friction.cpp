@@ -58,6 +58,24 @@ TEST(Friction, BlockOnPlaneSticksBelowMuNAndSlidesAbove) {
   }
 }
 
+TEST(Friction, AugmentedLagrangianSticksWithoutElasticSlip) {
+  // The same block with the augmented Lagrangian at T = 0.95 mu N: the friction force equals
+  // T, and the Uzawa updates remove the penalty's elastic slip of the sticking nodes (within
+  // 1e-3 of the facet size, the gap tolerance).
+  std::string deck = block_deck("  - name: push\n"
+                                "    increments: {initial: 0.1, max: 0.1}\n"
+                                "    loads:\n"
+                                "      - {set: Top, pressure: 10}\n"
+                                "      - {set: Top, traction: [2.85, 0]}\n");
+  deck.replace(deck.find("{method: penalty}"), 17, "{method: augmented_lagrangian}");
+  test::HertzRun r = test::run_deck_text(deck, "friction_al");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  EXPECT_NEAR(r.checks[0].computed, -2.85, 1e-6 * 2.85);
+  int updates = 0;
+  for (auto& inc : r.summary.increments) updates += inc.uzawa_updates;
+  EXPECT_GT(updates, 0) << "no Uzawa update: the test checks nothing beyond penalty";
+}
+
 TEST(Friction, DraggedBlockFrictionForceIsMuN) {
   // The example itself: displacement-driven, all nodes slip at the end; its checks hold
   // (friction force mu N to 1e-6) and the force never exceeds mu N on the way.

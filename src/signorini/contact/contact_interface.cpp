@@ -85,8 +85,9 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
   dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_;
   if (s_.friction != "none") {
-    if (s_.method != "penalty")
-      throw Error("contact '" + s_.name + "': friction works with penalty enforcement only in this version");
+    if (s_.method == "lagrange")
+      throw Error("contact '" + s_.name + "': friction works with penalty or augmented Lagrangian enforcement only "
+                  "in this version");
     friction_ = make_friction_law(s_.friction, s_.friction_parameter);
     tangential_stiffness_.resize(n);
     for (Index j = 0; j < n; ++j) tangential_stiffness_[j] = s_.tangential_penalty > 0 ? s_.tangential_penalty : stiffness_[j];
@@ -94,6 +95,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     origin_point_.assign(n, Vec3::Zero());
     has_origin_.assign(n, 0);
     traction_old_.assign(n, Vec3::Zero());
+    traction_committed_.assign(n, Vec3::Zero());
     slip_increment_.assign(n, 0.0);
     slip_accumulated_.assign(n, 0.0);
   }
@@ -175,6 +177,7 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
   frozen_reported_ = 0;
   shift_ = shift_committed_;
   if (!frictional()) return;
+  traction_old_ = traction_committed_;  // undoes the augmented Lagrangian's updates of a failed attempt
   // The slip origins: where each slave node touches the master material now.
   build_constraints(x, z);
   const Vec3 offset = obstacle_offset(z);
@@ -358,11 +361,34 @@ bool ContactInterface::uzawa_update(Real& max_penetration) {
       max_penetration = std::max(max_penetration, pen);
       ok = ok && pen <= (s_.gap_tolerance > 0 ? s_.gap_tolerance : 1e-3 * node_size_[j]);
     }
+  // Friction: a sticking node's elastic slip (the tangential part of d since the last update)
+  // must be within the same tolerance.
+  if (frictional())
+    for (size_t j = 0; j < constraints_.size(); ++j) {
+      const Constraint& c = constraints_[j];
+      if (c.kind == ConstraintKind::none || !state_.active[j] || !c.has_slip || state_.slip[j]) continue;
+      const Real elastic = (c.slip - c.normal * c.normal.dot(c.slip)).norm();
+      ok = ok && elastic <= (s_.gap_tolerance > 0 ? s_.gap_tolerance : 1e-3 * node_size_[j]);
+    }
   if (ok) return true;
   for (size_t j = 0; j < constraints_.size(); ++j)
     shift_[j] = constraints_[j].kind == ConstraintKind::none
                     ? 0.0
                     : std::max(0.0, shift_[j] - stiffness_[j] * constraints_[j].gap);
+  if (frictional())
+    // Uzawa on the tangential multipliers: the traction becomes the new multiplier and the
+    // slip restarts from the current contact point (Simo & Laursen 1992).
+    for (size_t j = 0; j < constraints_.size(); ++j) {
+      const Constraint& c = constraints_[j];
+      if (c.kind == ConstraintKind::none || !state_.active[j] || !c.has_slip) continue;
+      traction_old_[j] = state_.traction[j];
+      if (s_.rigid) {
+        origin_point_[j] += c.slip - c.gap * c.normal;
+      } else {
+        origin_[j].clear();
+        for (size_t k = 0; k < c.master_weights.size(); ++k) origin_[j].emplace_back(c.nodes[k + 1], c.master_weights[k]);
+      }
+    }
   return false;
 }
 
@@ -396,7 +422,7 @@ ContactStats ContactInterface::commit() {
     for (size_t j = 0; j < constraints_.size(); ++j) {
       const Constraint& c = constraints_[j];
       const bool closed = state_.active[j] && c.has_slip;
-      traction_old_[j] = closed ? state_.traction[j] : Vec3::Zero();
+      traction_old_[j] = traction_committed_[j] = closed ? state_.traction[j] : Vec3::Zero();
       slip_increment_[j] = closed ? (c.slip - c.normal * c.normal.dot(c.slip)).norm() : 0.0;
       slip_accumulated_[j] += slip_increment_[j];
       if (closed) (state_.slip[j] ? st.slipping : st.sticking)++;

@@ -134,7 +134,7 @@ class ContactInterface {
   std::vector<std::vector<std::pair<Index, Real>>> origin_;
   std::vector<Vec3> origin_point_;
   std::vector<char> has_origin_;
-  std::vector<Vec3> traction_old_;
+  std::vector<Vec3> traction_old_, traction_committed_;
   std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
   void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);

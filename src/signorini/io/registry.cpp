@@ -235,7 +235,7 @@ void register_deck_sections(Registry& r) {
           opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),
           opt(text("friction", "{law, mu | bound, penalty} (see 'describe friction'); omit for frictionless", std::nullopt,
                    ParamKind::any))}});
-  r.add({"deck", "friction", "Friction on a contact pair (enforcement: penalty). The tangential traction stays "
+  r.add({"deck", "friction", "Friction on a contact pair (enforcement: penalty or augmented_lagrangian). The tangential traction stays "
                              "within |t| <= bound: mu p (coulomb) or a constant (tresca); it sticks inside, slips on it.",
          {choice("law", "coulomb, tresca or none (frictionless)", {"coulomb", "tresca", "none"}, std::nullopt),
           opt(number("mu", "coulomb: the friction coefficient", std::nullopt, 0, INFINITY)),
