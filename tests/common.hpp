@@ -138,6 +138,19 @@ inline Mesh two_blocks(ElementType type, int nl, int nu, Real w, Real h, const V
   return m;
 }
 
+// Two plane-strain quad4 blocks 1 x 0.5 (lower 3, upper 4 cells wide), the upper one on top of
+// the lower one: bodies "lower" and "upper" with their own materials (null: rigid).
+inline Model two_block_model(std::shared_ptr<Material> lower, std::shared_ptr<Material> upper) {
+  AnalysisSettings s;
+  Model m;
+  m.settings = s;
+  m.mesh = two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5, 0));
+  orient_facets(m.mesh);
+  m.bodies.push_back(std::make_unique<Body>("lower", m.mesh.regions["lower_domain"], std::move(lower), s));
+  m.bodies.push_back(std::make_unique<Body>("upper", m.mesh.regions["upper_domain"], std::move(upper), s));
+  return m;
+}
+
 }  // namespace signorini::test
 
 namespace signorini::test {

@@ -217,15 +217,7 @@ TEST(Analysis, RigidBodyTranslatesWithItsReferenceNode) {
   // instead, and the reaction at the reference set (counted once, not per node) equals the
   // force that displacement needs.
   for (bool by_force : {true, false}) {
-    Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5, 0));
-    AnalysisSettings s;
-    Model m;
-    m.settings = s;
-    m.mesh = std::move(mesh);
-    orient_facets(m.mesh);
-    m.bodies.push_back(std::make_unique<Body>("lower", m.mesh.regions["lower_domain"],
-                                              std::make_shared<LinearElastic>(100, 0.0), s));
-    m.bodies.push_back(std::make_unique<Body>("upper", m.mesh.regions["upper_domain"], nullptr, s));
+    Model m = test::two_block_model(std::make_shared<LinearElastic>(100, 0.0), nullptr);
     m.bodies.back()->set_reference_nodes(m.mesh.node_sets["upper_ymax"]);
     ASSERT_TRUE(m.bodies.back()->rigid());
     ContactPairSettings cs;

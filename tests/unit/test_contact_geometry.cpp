@@ -47,6 +47,20 @@ struct GeoCase {
   Real height;
 };
 
+// The case's facet, its target point and the point's projection.
+struct Projected {
+  std::vector<Vec3> x;
+  Vec3 p;
+  FacetProjection fp;
+};
+Projected projected(const GeoCase& c) {
+  Projected r;
+  r.x = facet_nodes(c.type, c.dim);
+  r.p = interior_target(c.type, c.dim, r.x, c.height);
+  r.fp = project_on_facet(c.type, r.x, r.p, c.dim);
+  return r;
+}
+
 std::string name_of(const ::testing::TestParamInfo<GeoCase>& i) {
   return element_info(i.param.type).name + (i.param.height > 0 ? "_open" : "_penetrating");
 }
@@ -71,9 +85,7 @@ TEST_P(ContactGeometry, ProjectionIsOrthogonalAndInside) {
 TEST_P(ContactGeometry, VariationsMatchCentralDifferences) {
   const GeoCase c = GetParam();
   const int dim = c.dim;
-  auto x = facet_nodes(c.type, dim);
-  Vec3 p = interior_target(c.type, dim, x, c.height);
-  FacetProjection fp = project_on_facet(c.type, x, p, dim);
+  auto [x, p, fp] = projected(c);
   ASSERT_TRUE(fp.converged);
   VecX grad;
   MatX hess, dxi;
@@ -114,9 +126,7 @@ TEST_P(ContactGeometry, VariationsMatchCentralDifferences) {
 TEST_P(ContactGeometry, ParameterSecondVariationMatchesCentralDifferences) {
   const GeoCase c = GetParam();
   const int dim = c.dim;
-  auto x = facet_nodes(c.type, dim);
-  Vec3 p = interior_target(c.type, dim, x, c.height);
-  FacetProjection fp = project_on_facet(c.type, x, p, dim);
+  auto [x, p, fp] = projected(c);
   ASSERT_TRUE(fp.converged);
   MatX dxi;
   std::vector<MatX> d2xi;

@@ -75,15 +75,8 @@ TEST(Output, PvdListsFilesWithTimes) {
 TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
   // Two blocks pressed together: a contact CSV per increment with the documented header and
   // one row per slave node, and the slave surface as its own VTU (its facets as cells).
-  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5, 0));
-  AnalysisSettings s;
-  Model m;
-  m.settings = s;
-  m.mesh = std::move(mesh);
-  orient_facets(m.mesh);
   auto mat = std::make_shared<LinearElastic>(100, 0.3);
-  m.bodies.push_back(std::make_unique<Body>("lower", m.mesh.regions["lower_domain"], mat, s));
-  m.bodies.push_back(std::make_unique<Body>("upper", m.mesh.regions["upper_domain"], mat, s));
+  Model m = test::two_block_model(mat, mat);
   ContactPairSettings cs;
   cs.name = "pair one";
   cs.master = "lower_ymax";
