@@ -127,6 +127,7 @@ Analysis::Analysis(Model& model)
   is_multiplier_.assign(unknowns, 0);
   for (auto& c : contacts_)
     for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
+  has_multipliers_ = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
   if (!contacts_.empty()) detect_contact(0);
   rebuild_pattern();
 }
@@ -357,10 +358,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
       log::Timer ts;
       try {
-        // Multiplier contact: the condensed system when its structure allows (model.hpp).
-        const bool multipliers = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
+        // Multiplier contact with the automatic solver: the condensed system when its structure
+        // allows (condensed_solve.hpp); a solver chosen in the deck gets the whole system.
         bool condensed = false;
-        if (multipliers && ns.condense_contact && model_.linear_solver == "auto") {
+        if (has_multipliers_ && ns.condense_contact && model_.linear_solver == "auto") {
           condensed = condensed_solver_.solve(system_.matrix(), is_multiplier_, body_symmetric_, R, du);
           if (!condensed && !condense_reported_) {
             log::info("    contact multipliers kept in the linear system (UMFPACK): {}", condensed_solver_.why_not());

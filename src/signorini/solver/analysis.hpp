@@ -103,6 +103,7 @@ class Analysis {
   AutoLinearSolver linear_solver_;
   CondensedContactSolver condensed_solver_;
   std::vector<char> is_multiplier_;  // per unknown
+  bool has_multipliers_ = false;
   bool symmetric_ = true;
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
   bool condense_reported_ = false;
