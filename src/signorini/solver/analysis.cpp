@@ -344,8 +344,14 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   try {
     Real scale = evaluate(lambda, true, R);
     Real rnorm = R.norm();
+    // A floor under the force scale: the force that 1e-3 of the largest displacement would
+    // take across one element (mean stiffness diagonal). Without it, a body moved rigidly by
+    // prescribed displacements before it touches anything has only round-off forces, and
+    // the relative residual of round-off never converges.
+    const Real floor =
+        1e-3 * system_.mean_abs_diagonal() * (dofs_.num_dofs() ? u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff() : 0.0);
     auto converged_residual = [&](Real r, Real sc) {
-      return r <= std::max(ns.residual_tolerance * sc, ns.absolute_tolerance) || sc < 1e-300;
+      return r <= std::max(ns.residual_tolerance * std::max(sc, floor), ns.absolute_tolerance) || sc < 1e-300;
     };
     rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
     log::info("    iter {:2d}  |R|/F = {:.3e}", 0, rec.residuals.back());
