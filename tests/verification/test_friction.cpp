@@ -89,12 +89,16 @@ TEST(Friction, DraggedBlockFrictionForceIsMuN) {
                                          "friction_drag");
   ASSERT_TRUE(r.summary.completed) << r.summary.failure;
   for (auto& c : r.checks) EXPECT_TRUE(c.pass) << c.check.name << " " << c.computed;
-  Index stick_seen = 0;
+  Index stick_seen = 0, stick_slip = 0;
   for (auto& inc : r.summary.increments)
     for (auto& c : inc.contact) {
       EXPECT_LE(std::abs(c.force(0)), 3 * (1 + 1e-9)) << "friction above mu N";
       stick_seen += c.sticking;
+      stick_slip += c.stick_slip_changes;
+      // The nodes that changed status are named (for the log), one per change.
+      EXPECT_EQ(static_cast<Index>(c.changed_nodes.size()), c.changes + c.stick_slip_changes);
     }
   EXPECT_GT(stick_seen, 0) << "the block should stick before it slides";
+  EXPECT_GT(stick_slip, 0) << "nodes go from stick to slip while the block is dragged";
   EXPECT_EQ(r.summary.increments.back().contact[0].sticking, 0) << "all nodes slip at the end";
 }

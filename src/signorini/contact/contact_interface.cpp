@@ -96,6 +96,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     has_origin_.assign(n, 0);
     traction_old_.assign(n, Vec3::Zero());
     traction_committed_.assign(n, Vec3::Zero());
+    committed_friction_.assign(n, 0);
     slip_increment_.assign(n, 0.0);
     slip_accumulated_.assign(n, 0.0);
   }
@@ -408,7 +409,10 @@ ContactStats ContactInterface::commit() {
   st.label = label_;
   for (size_t j = 0; j < state_.active.size(); ++j) {
     st.active += state_.active[j];
-    st.changes += state_.active[j] != committed_active_[j];
+    if (state_.active[j] != committed_active_[j]) {
+      ++st.changes;
+      st.changed_nodes.push_back(slave_.nodes[j]);
+    }
     st.frozen += forced_[j] != 0;
     const Constraint& c = constraints_[j];
     if (c.kind != ConstraintKind::none) {
@@ -426,6 +430,13 @@ ContactStats ContactInterface::commit() {
       slip_increment_[j] = closed ? (c.slip - c.normal * c.normal.dot(c.slip)).norm() : 0.0;
       slip_accumulated_[j] += slip_increment_[j];
       if (closed) (state_.slip[j] ? st.slipping : st.sticking)++;
+      // Stick <-> slip changes count as status changes too.
+      const signed char now = closed ? (state_.slip[j] ? 2 : 1) : 0;
+      if (closed && committed_friction_[j] != 0 && now != committed_friction_[j]) {
+        ++st.stick_slip_changes;
+        st.changed_nodes.push_back(slave_.nodes[j]);
+      }
+      committed_friction_[j] = now;
       if (closed) st.force -= c.weight * state_.traction[j];  // friction on the slave side
     }
   return st;

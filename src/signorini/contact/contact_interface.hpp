@@ -24,6 +24,8 @@ struct ContactStats {
   Real max_penetration = 0;
   Vec3 force = Vec3::Zero();  // total contact force on the slave side
   Index sticking = 0, slipping = 0;  // friction: closed nodes that stick, that slip
+  Index stick_slip_changes = 0;      // friction: closed nodes that went from stick to slip or back
+  std::vector<Index> changed_nodes;  // slave nodes (mesh indices) whose status changed
 };
 
 class ContactInterface {
@@ -135,6 +137,7 @@ class ContactInterface {
   std::vector<Vec3> origin_point_;
   std::vector<char> has_origin_;
   std::vector<Vec3> traction_old_, traction_committed_;
+  std::vector<signed char> committed_friction_;  // per slave node: 0 open, 1 stick, 2 slip
   std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
   void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);

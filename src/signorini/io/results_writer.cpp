@@ -322,8 +322,10 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
       for (size_t k = 0; k < r.contact.size(); ++k) {
         const auto& c = r.contact[k];
         j += fmt::format("{}{{\"pair\": \"{}\", \"active\": {}, \"changes\": {}, \"frozen\": {}, "
-                         "\"stick\": {}, \"slip\": {}, \"max_penetration\": {}, \"force\": [{}, {}, {}]}}",
+                         "\"stick\": {}, \"slip\": {}, \"stick_slip_changes\": {}, \"max_penetration\": {}, "
+                         "\"force\": [{}, {}, {}]}}",
                          k ? ", " : "", json_escape(c.label), c.active, c.changes, c.frozen, c.sticking, c.slipping,
+                         c.stick_slip_changes,
                          json_number(c.max_penetration), json_number(c.force(0)), json_number(c.force(1)),
                          json_number(c.force(2)));
       }

@@ -573,6 +573,16 @@ AnalysisSummary Analysis::run_steps() {
       log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]{}",
                 s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
                 log::elapsed(), contact);
+      // Which contact nodes changed status (open/closed, stick/slip), by mesh node id.
+      for (auto& c : rec.contact)
+        if (!c.changed_nodes.empty()) {
+          std::string ids;
+          for (size_t k = 0; k < c.changed_nodes.size() && k < 12; ++k)
+            ids += fmt::format("{}{}", k ? ", " : "", model_.mesh.node_ids[c.changed_nodes[k]]);
+          log::info("    {}: status changed at node{} {}{}{}", c.label, c.changed_nodes.size() > 1 ? "s" : "", ids,
+                    c.changed_nodes.size() > 12 ? fmt::format(" and {} more", c.changed_nodes.size() - 12) : "",
+                    c.stick_slip_changes ? fmt::format(" ({} stick/slip)", c.stick_slip_changes) : "");
+        }
       if (rec.iterations <= model_.newton.easy_iterations)
         dl = std::min(dl * model_.newton.growth_factor, step.max_increment);
       if (observer_) observer_(*this, rec);
