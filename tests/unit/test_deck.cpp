@@ -243,6 +243,12 @@ TEST(Deck, ContactSectionErrors) {
   EXPECT_MESSAGE(m, "c_law.yaml:20", "contact[0].friction.law", "coulomb, tresca, none");
   m = error_of("c_bound", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb, mu: 0.2, bound: 3}\n");
   EXPECT_MESSAGE(m, "c_bound.yaml:20", "contact[0].friction.bound", "law: tresca");
+  m = error_of("c_fr_passes", kContact + "    passes: 2\n    enforcement: {method: penalty}\n"
+                                         "    friction: {law: coulomb, mu: 0.2}\n");
+  EXPECT_MESSAGE(m, "c_fr_passes.yaml:21", "contact[0].friction", "passes: 2");
+  m = error_of("c_stick", kContact + "checks:\n  - {name: c, quantity: contact_stick_half_width, pair: c1, at: [0, 0], "
+                                     "component: x, expected: 1}\n");
+  EXPECT_MESSAGE(m, "c_stick.yaml:20", "checks[0].quantity", "needs a contact pair with friction");
   m = error_of("c_same", replace(kContact, "slave: Bottom", "slave: Top"));
   EXPECT_MESSAGE(m, "c_same.yaml:18", "same facet set");
   m = error_of("c_passes", kContact + "    discretization: node_to_node\n    passes: 2\n");
