@@ -186,13 +186,20 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
     const Constraint& c = constraints_[j];
     has_origin_[j] = c.kind != ConstraintKind::none;
     origin_[j].clear();
-    if (!has_origin_[j]) continue;
-    if (s_.rigid) {
-      origin_point_[j] = x[c.slave] - c.gap * c.normal - offset;
-      continue;
-    }
-    for (size_t k = 0; k < c.master_weights.size(); ++k) origin_[j].emplace_back(c.nodes[k + 1], c.master_weights[k]);
+    if (has_origin_[j]) record_origin(j, c, x[c.slave] - offset);
   }
+}
+
+void ContactInterface::record_origin(size_t j, const Constraint& c, const Vec3& slave_from_obstacle) {
+  // The closest master point of constraint c becomes node j's slip origin: the master nodes
+  // with the discretization's weights, or (rigid obstacle) the point relative to the
+  // obstacle's offset, from the slave position relative to that offset.
+  if (s_.rigid) {
+    origin_point_[j] = slave_from_obstacle - c.gap * c.normal;
+    return;
+  }
+  origin_[j].clear();
+  for (size_t k = 0; k < c.master_weights.size(); ++k) origin_[j].emplace_back(c.nodes[k + 1], c.master_weights[k]);
 }
 
 Vec3 ContactInterface::obstacle_offset(const VecX& z) const {
@@ -383,12 +390,7 @@ bool ContactInterface::uzawa_update(Real& max_penetration) {
       const Constraint& c = constraints_[j];
       if (c.kind == ConstraintKind::none || !state_.active[j] || !c.has_slip) continue;
       traction_old_[j] = state_.traction[j];
-      if (s_.rigid) {
-        origin_point_[j] += c.slip - c.gap * c.normal;
-      } else {
-        origin_[j].clear();
-        for (size_t k = 0; k < c.master_weights.size(); ++k) origin_[j].emplace_back(c.nodes[k + 1], c.master_weights[k]);
-      }
+      record_origin(j, c, origin_point_[j] + c.slip);  // x_s - offset = origin + d
     }
   return false;
 }

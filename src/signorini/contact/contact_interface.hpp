@@ -141,6 +141,7 @@ class ContactInterface {
   std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
   void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);
+  void record_origin(size_t j, const Constraint& c, const Vec3& slave_from_obstacle);
   Vec3 obstacle_offset(const VecX& z) const;
   Real dmax_ = 0;
 };
