@@ -87,4 +87,13 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
   return s;
 }
 
+ConstraintSet open_constraints(const SlaveSurface& slave) {
+  ConstraintSet out(slave.nodes.size());
+  for (size_t j = 0; j < out.size(); ++j) {
+    out[j].slave = slave.nodes[j];
+    out[j].weight = slave.weights[j];
+  }
+  return out;
+}
+
 }  // namespace signorini

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "signorini/contact/constraint.hpp"
 #include "signorini/fem/analysis_settings.hpp"
 #include "signorini/mesh/mesh.hpp"
 
@@ -26,6 +27,10 @@ struct SlaveSurface {
   std::vector<Index> nodes;     // slave nodes
   std::vector<Real> weights;    // tributary area (reference configuration)
 };
+
+// One constraint per slave node, with its node and tributary weight, of kind none: where
+// every discretization starts.
+ConstraintSet open_constraints(const SlaveSurface& slave);
 
 MasterSurface make_master_surface(const Mesh& mesh, const std::string& facet_set);
 // Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8).

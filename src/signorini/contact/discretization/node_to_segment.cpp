@@ -15,12 +15,10 @@ constexpr Real kEdgeTolerance = 1e-2;  // in facet parameters
 void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
                      const std::vector<Index>& candidate, ConstraintSet& out) {
   const Index ns = static_cast<Index>(slave.nodes.size());
-  out.assign(ns, Constraint{});
+  out = open_constraints(slave);
 #pragma omp parallel for schedule(dynamic, 32)
   for (Index j = 0; j < ns; ++j) {
     Constraint& c = out[j];
-    c.slave = slave.nodes[j];
-    c.weight = slave.weights[j];
     if (candidate[j] < 0 || !(c.weight > 0)) continue;
     const Vec3& p = x[c.slave];
     const std::vector<Index> around = master.neighbourhood(candidate[j]);
@@ -138,11 +136,9 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
 void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_node, const std::vector<Vec3>& normal,
                   const std::vector<Vec3>& x, int dim, ConstraintSet& out) {
   const Index ns = static_cast<Index>(slave.nodes.size());
-  out.assign(ns, Constraint{});
+  out = open_constraints(slave);
   for (Index j = 0; j < ns; ++j) {
     Constraint& c = out[j];
-    c.slave = slave.nodes[j];
-    c.weight = slave.weights[j];
     if (master_node[j] < 0 || !(c.weight > 0)) continue;
     c.kind = ConstraintKind::node;
     c.facet = master_node[j];

@@ -6,11 +6,9 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Ind
                                 const SlaveSurface& slave, const std::vector<Vec3>& x, int dim, Real max_distance,
                                 ConstraintSet& out) {
   const Index ns = static_cast<Index>(slave.nodes.size());
-  out.assign(ns, Constraint{});
+  out = open_constraints(slave);
   for (Index j = 0; j < ns; ++j) {
     Constraint& c = out[j];
-    c.slave = slave.nodes[j];
-    c.weight = slave.weights[j];
     if (!(c.weight > 0)) continue;
     const Vec3 p = x[c.slave];
     Mat3 H = Mat3::Zero();
