@@ -11,15 +11,21 @@ using namespace signorini;
 namespace {
 
 // A distorted, curved facet: reference coordinates mapped into space, with a bump.
-std::vector<Vec3> facet_nodes(ElementType t, int dim) {
-  const ElementInfo& e = element_info(t);
+std::vector<Vec3> facet_nodes(const FacetBasis& t, int dim) {
   std::vector<Vec3> x;
   unsigned s = 99;
   auto rnd = [&]() {
     s = s * 1664525u + 1013904223u;
     return 2.0 * (s >> 8) / static_cast<Real>(1u << 24) - 1.0;
   };
-  for (auto& r : e.ref_coords) {
+  if (t.smooth) {  // a Hermite segment: nodes along a parabola, [prev], a, b, [next]
+    for (Real r : {-3.0, -1.0, 1.0, 3.0}) {
+      if ((r < -2 && !t.has_prev) || (r > 2 && !t.has_next)) continue;
+      x.push_back(Vec3(0.7 * r + 0.05 * rnd(), 0.1 * r * r + 0.03 * rnd(), 0));
+    }
+    return x;
+  }
+  for (auto& r : element_info(t.type).ref_coords) {
     Vec3 p;
     if (dim == 2) p = Vec3(0.7 * r(0) + 0.05 * rnd(), 0.1 * r(0) * r(0) + 0.03 * rnd(), 0);
     else p = Vec3(0.8 * r(0) + 0.2 * r(1) + 0.04 * rnd(), 0.1 * r(0) + 0.9 * r(1) + 0.04 * rnd(),
@@ -30,19 +36,18 @@ std::vector<Vec3> facet_nodes(ElementType t, int dim) {
   return x;
 }
 
-Vec3 interior_target(ElementType t, int dim, const std::vector<Vec3>& x, Real height) {
-  const ElementInfo& e = element_info(t);
-  const Vec3 xi = e.family == ShapeFamily::simplex ? Vec3(0.3, 0.25, 0) : Vec3(0.2, dim == 3 ? -0.3 : 0, 0);
+Vec3 interior_target(const FacetBasis& t, int dim, const std::vector<Vec3>& x, Real height) {
+  const Vec3 xi = t.simplex() ? Vec3(0.3, 0.25, 0) : Vec3(0.2, dim == 3 ? -0.3 : 0, 0);
   VecX N;
   MatX dN;
-  shape_functions(t, xi, N, dN);
+  t.eval(xi, N, dN);
   Vec3 c = Vec3::Zero();
   for (size_t i = 0; i < x.size(); ++i) c += N(i) * x[i];
   return c + height * facet_normal(t, x, xi, dim);
 }
 
 struct GeoCase {
-  ElementType type;
+  FacetBasis type;
   int dim;
   Real height;
 };
@@ -61,8 +66,13 @@ Projected projected(const GeoCase& c) {
   return r;
 }
 
+std::string basis_name(const FacetBasis& b) {
+  if (!b.smooth) return element_info(b.type).name;
+  return std::string("hermite") + (b.has_prev ? "_prev" : "") + (b.has_next ? "_next" : "");
+}
+
 std::string name_of(const ::testing::TestParamInfo<GeoCase>& i) {
-  return element_info(i.param.type).name + (i.param.height > 0 ? "_open" : "_penetrating");
+  return basis_name(i.param.type) + (i.param.height > 0 ? "_open" : "_penetrating");
 }
 
 }  // namespace
@@ -74,7 +84,7 @@ TEST_P(ContactGeometry, ProjectionIsOrthogonalAndInside) {
   const auto x = facet_nodes(c.type, c.dim);
   const Vec3 p = interior_target(c.type, c.dim, x, c.height);
   FacetProjection fp = project_on_facet(c.type, x, p, c.dim);
-  ASSERT_TRUE(fp.converged) << element_info(c.type).name;
+  ASSERT_TRUE(fp.converged) << basis_name(c.type);
   EXPECT_TRUE(fp.inside);
   EXPECT_LT(fp.iterations, 10);
   for (int a = 0; a < c.dim - 1; ++a) EXPECT_NEAR(fp.a[a].dot(p - fp.point), 0, 1e-12);
@@ -113,7 +123,7 @@ TEST_P(ContactGeometry, VariationsMatchCentralDifferences) {
     gap_variations(c.type, xm, fpm, dim, gm, tmp);
     err_h = std::max(err_h, ((gp - gm) / (2 * h) - hess.col(k)).cwiseAbs().maxCoeff());
   }
-  const std::string what = element_info(c.type).name;
+  const std::string what = basis_name(c.type);
   EXPECT_LT(err_g, 1e-8) << what << ": gap gradient";
   EXPECT_LT(err_xi, 1e-7) << what << ": parameter gradient";
   EXPECT_LT(err_h, 1e-6 * std::max(1.0, hess.cwiseAbs().maxCoeff())) << what << ": gap Hessian";
@@ -155,7 +165,7 @@ TEST_P(ContactGeometry, ParameterSecondVariationMatchesCentralDifferences) {
     for (int b = 0; b < dim - 1; ++b)
       err = std::max(err, ((dp.col(b) - dm.col(b)) / (2 * h) - d2xi[b].col(k)).cwiseAbs().maxCoeff());
   }
-  const std::string what = element_info(c.type).name;
+  const std::string what = basis_name(c.type);
   EXPECT_LT(err, 1e-6 * scale) << what << ": parameter Hessian (scale " << scale << ")";
   for (int b = 0; b < dim - 1; ++b)
     EXPECT_LT((d2xi[b] - d2xi[b].transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << ": not symmetric";
@@ -169,7 +179,12 @@ INSTANTIATE_TEST_SUITE_P(
                       GeoCase{ElementType::quad4, 3, 0.2}, GeoCase{ElementType::quad4, 3, -0.1},
                       GeoCase{ElementType::tri6, 3, 0.2}, GeoCase{ElementType::tri6, 3, -0.1},
                       GeoCase{ElementType::quad8, 3, 0.2}, GeoCase{ElementType::quad8, 3, -0.1},
-                      GeoCase{ElementType::quad9, 3, 0.2}, GeoCase{ElementType::quad9, 3, -0.1}),
+                      GeoCase{ElementType::quad9, 3, 0.2}, GeoCase{ElementType::quad9, 3, -0.1},
+                      GeoCase{FacetBasis::hermite(true, true), 2, 0.2},
+                      GeoCase{FacetBasis::hermite(true, true), 2, -0.1},
+                      GeoCase{FacetBasis::hermite(false, true), 2, 0.2},
+                      GeoCase{FacetBasis::hermite(true, false), 2, -0.1},
+                      GeoCase{FacetBasis::hermite(false, false), 2, 0.2}),
     name_of);
 
 TEST(ContactGeometry, PointsBeyondTheFacetAreNotInside) {

@@ -17,10 +17,21 @@ struct PairCase {
   std::string method;
   bool three_d;
   ElementType type;
+  std::string smoothing = "none";
 };
 
 std::string name_of(const ::testing::TestParamInfo<PairCase>& i) {
-  return i.param.discretization + "_" + i.param.method + "_" + element_info(i.param.type).name;
+  return i.param.discretization + "_" + i.param.method + "_" + element_info(i.param.type).name +
+         (i.param.smoothing == "none" ? "" : "_" + i.param.smoothing);
+}
+
+// A smoothed master only differs from the faceted one where it is curved: a wave on the
+// lower block's top (the master) makes the Hermite curve bend between its nodes.
+void bend_lower_block(const Mesh& mesh, const DofMap& dofs, int dim, VecX& z) {
+  for (Index n : mesh.node_sets.at("lower_domain")) {
+    const Vec3& X = mesh.nodes[n];
+    z(dofs.dof(n, dim - 1)) += 0.03 * std::sin(9 * X(0)) * X(dim - 1);
+  }
 }
 
 }  // namespace
@@ -49,6 +60,7 @@ TEST_P(ContactTangent, MatchesCentralDifferences) {
   cs.slave = pc.three_d ? "upper_zmin" : "upper_ymin";
   cs.discretization = pc.discretization;
   cs.method = pc.method;
+  cs.smoothing = pc.smoothing;
   ContactInterface ci(cs, mesh, as, 100.0, false);
   std::vector<const ElementBlock*> cells;
   for (auto& [n, blocks] : mesh.regions)
@@ -64,6 +76,7 @@ TEST_P(ContactTangent, MatchesCentralDifferences) {
     z(dofs.dof(n, vert)) = 0.02 * std::sin(7 * X(0) + 3 * X(1));
     z(dofs.dof(n, 0)) += 0.003 * std::cos(5 * X(vert));
   }
+  if (pc.smoothing != "none") bend_lower_block(mesh, dofs, dim, z);
   for (Index j = 0; j < ci.num_multipliers(); ++j) z(dofs.dof(0, 0) * 0 + dofs.num_dofs() + j) = (j % 3) * 0.7;
   ci.detect(test::cells_of_positions(mesh, dofs, z), 0.05);
   auto residual = [&](const VecX& zz, GlobalMatrix* K) {
@@ -108,7 +121,9 @@ INSTANTIATE_TEST_SUITE_P(
                       PairCase{"node_to_segment", "lagrange", true, ElementType::hex8},
                       PairCase{"node_to_node", "lagrange", true, ElementType::hex8},
                       PairCase{"node_to_segment", "augmented_lagrangian", false, ElementType::quad4},
-                      PairCase{"node_to_segment", "augmented_lagrangian", true, ElementType::hex8}),
+                      PairCase{"node_to_segment", "augmented_lagrangian", true, ElementType::hex8},
+                      PairCase{"node_to_segment", "penalty", false, ElementType::quad4, "hermite"},
+                      PairCase{"node_to_segment", "lagrange", false, ElementType::quad4, "hermite"}),
     name_of);
 
 TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
@@ -203,10 +218,12 @@ struct FrictionCase {
   bool three_d;
   bool rigid;
   std::string method = "penalty";
+  std::string smoothing = "none";
 };
 std::string friction_name(const ::testing::TestParamInfo<FrictionCase>& i) {
   return (i.param.rigid ? std::string("rigid_cylinder") : i.param.discretization + (i.param.three_d ? "_3d" : "_2d")) +
-         (i.param.method == "penalty" ? "" : "_" + i.param.method);
+         (i.param.method == "penalty" ? "" : "_" + i.param.method) +
+         (i.param.smoothing == "none" ? "" : "_" + i.param.smoothing);
 }
 }  // namespace
 
@@ -239,6 +256,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     z0(dofs.dof(n, vert)) = (fc.rigid ? 1 : -1) * (0.004 + 0.006 * std::sin(7 * X(0) + 3 * X(1)));
   }
   if (fc.rigid) z0(nz - 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
+  if (fc.smoothing != "none") bend_lower_block(mesh, dofs, dim, z0);
   VecX z = z0;
   for (Index n : mesh.node_sets[moving]) {
     const Vec3& X = mesh.nodes[n];
@@ -256,6 +274,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     cs.friction = "coulomb";
     cs.friction_parameter = 0.3;
     cs.tangential_penalty = epst;
+    cs.smoothing = fc.smoothing;
     if (fc.rigid) {
       cs.slave = "ymax";
       cs.rigid = true;
@@ -312,5 +331,8 @@ INSTANTIATE_TEST_SUITE_P(Penalty, FrictionTangent,
                                            FrictionCase{"node_to_node", false, false},
                                            FrictionCase{"node_to_segment", false, true},
                                            FrictionCase{"node_to_segment", false, false, "augmented_lagrangian"},
-                                           FrictionCase{"node_to_segment", true, false, "augmented_lagrangian"}),
+                                           FrictionCase{"node_to_segment", true, false, "augmented_lagrangian"},
+                                           FrictionCase{"node_to_segment", false, false, "penalty", "hermite"},
+                                           FrictionCase{"node_to_segment", false, false, "augmented_lagrangian",
+                                                        "hermite"}),
                          friction_name);

@@ -249,6 +249,10 @@ TEST(Deck, ContactSectionErrors) {
   m = error_of("c_stick", kContact + "checks:\n  - {name: c, quantity: contact_stick_half_width, pair: c1, at: [0, 0], "
                                      "component: x, expected: 1}\n");
   EXPECT_MESSAGE(m, "c_stick.yaml:20", "checks[0].quantity", "needs a contact pair with friction");
+  m = error_of("c_smooth_ntn", kContact + "    discretization: node_to_node\n    smoothing: hermite\n");
+  EXPECT_MESSAGE(m, "c_smooth_ntn.yaml:20", "contact[0].smoothing", "node_to_segment only");
+  m = error_of("c_smooth_kind", kContact + "    smoothing: bezier\n");
+  EXPECT_MESSAGE(m, "c_smooth_kind.yaml:19", "contact[0].smoothing", "none, hermite");
   m = error_of("c_same", replace(kContact, "slave: Bottom", "slave: Top"));
   EXPECT_MESSAGE(m, "c_same.yaml:18", "same facet set");
   m = error_of("c_passes", kContact + "    discretization: node_to_node\n    passes: 2\n");

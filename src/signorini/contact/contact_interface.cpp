@@ -16,7 +16,10 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     : s_(s), as_(as), dim_(as.spatial_dim()) {
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
-  if (!s_.rigid) master_ = make_master_surface(mesh, s_.master);
+  if (!s_.rigid) {
+    master_ = make_master_surface(mesh, s_.master);
+    if (s_.smoothing == "hermite") smooth_master_surface(master_, mesh.nodes);
+  }
   slave_ = make_slave_surface(mesh, s_.slave, as);
   if (second_pass) {
     // A node that coincides with a node of the other surface carries the same constraint in
@@ -159,7 +162,7 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
       else {
         std::set<Index> nodes;
         for (Index f : master_.neighbourhood(candidate_[j]))
-          for (Index n : master_.facets[f]) nodes.insert(n);
+          for (Index n : master_.basis_nodes(f)) nodes.insert(n);
         for (Index n : nodes) add_node(n);
       }
     }

@@ -24,6 +24,7 @@ struct ContactPairSettings {
   RigidObstacle obstacle;
   std::string slave;                              // facet set
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node
+  std::string smoothing = "none";                 // none, hermite (2D: C1 master curve through the nodes)
   int passes = 1;                                 // 2: each surface is also slave of the other
   std::string method = "lagrange";                // lagrange (semi-smooth Newton), augmented_lagrangian, penalty
   Real penalty = 0;                               // 0: automatic, penalty_factor * E / h

@@ -32,6 +32,42 @@ Vec3 MasterSurface::node_normal(Index node, const std::vector<Vec3>& x, int dim)
   return n.norm() > 0 ? Vec3(n.normalized()) : n;
 }
 
+FacetBasis MasterSurface::basis(Index f) const {
+  if (!smooth()) return FacetBasis(type[f]);
+  return FacetBasis::hermite(prev[f] >= 0, next[f] >= 0);
+}
+
+std::vector<Index> MasterSurface::basis_nodes(Index f) const {
+  if (!smooth()) return facets[f];
+  std::vector<Index> v;
+  if (prev[f] >= 0) v.push_back(prev[f]);
+  v.push_back(facets[f][0]);
+  v.push_back(facets[f][1]);
+  if (next[f] >= 0) v.push_back(next[f]);
+  return v;
+}
+
+void smooth_master_surface(MasterSurface& m, const std::vector<Vec3>& x) {
+  for (ElementType t : m.type)
+    if (t != ElementType::line2)
+      throw Error("smoothing: hermite needs a 2D master surface of line2 facets (found " + element_info(t).name + ")");
+  const Real cos_max = std::cos(kSmoothingMaxKink * std::numbers::pi / 180);
+  m.prev.assign(m.size(), -1);
+  m.next.assign(m.size(), -1);
+  for (Index f = 0; f < m.size(); ++f) {
+    const Index a = m.facets[f][0], b = m.facets[f][1];
+    const Vec3 t = (x[b] - x[a]).normalized();
+    // The neighbour across node a is the facet that ends at a (consistent orientation); one
+    // across a kink sharper than kSmoothingMaxKink is left out.
+    for (Index g : m.node_facets[a])
+      if (g != f && m.facets[g][1] == a && (x[a] - x[m.facets[g][0]]).normalized().dot(t) >= cos_max)
+        m.prev[f] = m.facets[g][0];
+    for (Index g : m.node_facets[b])
+      if (g != f && m.facets[g][0] == b && (x[m.facets[g][1]] - x[b]).normalized().dot(t) >= cos_max)
+        m.next[f] = m.facets[g][1];
+  }
+}
+
 MasterSurface make_master_surface(const Mesh& mesh, const std::string& set) {
   MasterSurface m;
   m.node_facets.resize(mesh.num_nodes());

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "signorini/contact/constraint.hpp"
+#include "signorini/contact/geometry/facet_projection.hpp"
 #include "signorini/fem/analysis_settings.hpp"
 #include "signorini/mesh/mesh.hpp"
 
@@ -21,7 +22,22 @@ struct MasterSurface {
   std::vector<Index> neighbourhood(Index f) const;
   // Average outward normal at a master node (current positions x).
   Vec3 node_normal(Index node, const std::vector<Vec3>& x, int dim) const;
+  // Hermite smoothing (2D): per facet, the node before its first node and the node after its
+  // second (-1: none, at an end of the surface or a corner kept sharp). Empty: faceted.
+  std::vector<Index> prev, next;
+  bool smooth() const { return !prev.empty(); }
+  // The parameterisation of facet f and the nodes it depends on, in the basis's order.
+  FacetBasis basis(Index f) const;
+  std::vector<Index> basis_nodes(Index f) const;
 };
+
+// Kinks sharper than this (degrees between neighbouring segments, reference configuration)
+// stay sharp under smoothing.
+constexpr Real kSmoothingMaxKink = 45;
+
+// Turns on Hermite smoothing of a 2D master surface of line2 facets (`x`: reference
+// positions). Throws Error for other facet types.
+void smooth_master_surface(MasterSurface& m, const std::vector<Vec3>& x);
 
 struct SlaveSurface {
   std::vector<Index> nodes;     // slave nodes

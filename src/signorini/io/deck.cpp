@@ -475,6 +475,7 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       cs.slave = facet_set(c.child("slave"));
       if (c.has("passes")) c.child("passes").fail("a rigid obstacle has one pass");
       if (c.has("discretization")) c.child("discretization").fail("a rigid obstacle is node-to-surface by nature");
+      if (c.has("smoothing")) c.child("smoothing").fail("a rigid obstacle is smooth already");
     } else if (automatic) {
       if (!c.has("surfaces") || c.has("slave"))
         c.fail("with master: auto, name the two surfaces with 'surfaces: [A, B]' (and no 'slave')");
@@ -511,6 +512,18 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
     cs.passes = static_cast<int>(c.number(spec, "passes"));
     if (cs.passes == 2 && cs.discretization != "node_to_segment")
       c.child("passes").fail("two passes apply to node_to_segment only");
+    if (!cs.rigid) cs.smoothing = c.text(spec, "smoothing");
+    if (cs.smoothing != "none") {
+      Node sm = c.child("smoothing");
+      if (cs.discretization != "node_to_segment") sm.fail("smoothing applies to node_to_segment only");
+      if (m.settings.spatial_dim() != 2)
+        sm.fail("smoothing: hermite smooths 2D master curves; 3D master surfaces are faceted in this version");
+      for (const std::string& set : cs.passes == 2 ? std::vector<std::string>{cs.master, cs.slave}
+                                                   : std::vector<std::string>{cs.master})
+        for (const ElementBlock& b : m.mesh.facet_sets.at(set))
+          if (b.type != ElementType::line2)
+            sm.fail("smoothing: hermite needs line2 master facets; '" + set + "' has " + element_info(b.type).name);
+    }
     if (c.has("enforcement")) {
       Node e = c.child("enforcement");
       e.check_keys(es);

@@ -34,10 +34,11 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     bool best_strict = false;
     for (Index f : around) {
       xf.clear();
-      for (Index n : master.facets[f]) xf.push_back(x[n]);
-      FacetProjection fp = project_on_facet(master.type[f], xf, p, dim, kEdgeTolerance);
+      for (Index n : master.basis_nodes(f)) xf.push_back(x[n]);
+      const FacetBasis basis = master.basis(f);
+      FacetProjection fp = project_on_facet(basis, xf, p, dim, kEdgeTolerance);
       if (!fp.inside) continue;
-      const bool strict = inside_reference(master.type[f], fp.xi, 1e-9);
+      const bool strict = inside_reference(basis, fp.xi, 1e-9);
       if ((strict && !best_strict) || (strict == best_strict && std::abs(fp.gap) < best_dist)) {
         best_dist = std::abs(fp.gap);
         best = f;
@@ -52,11 +53,13 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
       c.gap = best_fp.gap;
       c.normal = best_fp.normal;
       c.nodes.assign(1, c.slave);
-      c.nodes.insert(c.nodes.end(), master.facets[best].begin(), master.facets[best].end());
-      gap_variations(master.type[best], best_x, best_fp, dim, c.grad, c.hess);
+      const std::vector<Index> bn = master.basis_nodes(best);
+      c.nodes.insert(c.nodes.end(), bn.begin(), bn.end());
+      const FacetBasis basis = master.basis(best);
+      gap_variations(basis, best_x, best_fp, dim, c.grad, c.hess);
       VecX N;
       MatX dN;
-      shape_functions(master.type[best], best_fp.xi, N, dN);
+      basis.eval(best_fp.xi, N, dN);
       c.master_weights.assign(N.data(), N.data() + N.size());
       continue;
     }

@@ -12,12 +12,13 @@ namespace {
 
 // Second derivatives of the facet's shape functions: central differences of the analytic
 // first derivatives, exact (to round-off, for any step) because every facet shape function
-// has degree <= 2 in each parameter, so its first derivatives are at most quadratic in each.
+// has degree <= 2 in each parameter (the Hermite segment: 3, in one parameter), so its first
+// derivatives are at most quadratic in each, and central differences are exact on those.
 constexpr Real kShapeStep = 0.25;
 
-void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<Mat2>& d2) {
-  const ElementInfo& e = element_info(t);
-  d2.assign(e.num_nodes, Mat2::Zero());
+void second_derivatives(const FacetBasis& t, const Vec3& xi, int params, std::vector<Mat2>& d2) {
+  const int nn = t.num_nodes();
+  d2.assign(nn, Mat2::Zero());
   const Real h = kShapeStep;
   VecX N;
   MatX dp, dm;
@@ -25,9 +26,9 @@ void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<M
     Vec3 xp = xi, xm = xi;
     xp(b) += h;
     xm(b) -= h;
-    shape_functions(t, xp, N, dp);
-    shape_functions(t, xm, N, dm);
-    for (int i = 0; i < e.num_nodes; ++i)
+    t.eval(xp, N, dp);
+    t.eval(xm, N, dm);
+    for (int i = 0; i < nn; ++i)
       for (int a = 0; a < params; ++a) d2[i](a, b) = (dp(i, a) - dm(i, a)) / (2 * h);
   }
   for (auto& m : d2) m = 0.5 * (m + m.transpose()).eval();
@@ -35,9 +36,9 @@ void second_derivatives(ElementType t, const Vec3& xi, int params, std::vector<M
 
 // Third derivatives d3[i][c](a, b) = N_i,abc: central differences of the second derivatives,
 // exact for the same reason (N_i,ab has degree <= 2 in each parameter).
-void third_derivatives(ElementType t, const Vec3& xi, int params, std::vector<std::array<Mat2, 2>>& d3) {
-  const ElementInfo& e = element_info(t);
-  d3.assign(e.num_nodes, {Mat2::Zero(), Mat2::Zero()});
+void third_derivatives(const FacetBasis& t, const Vec3& xi, int params, std::vector<std::array<Mat2, 2>>& d3) {
+  const int nn = t.num_nodes();
+  d3.assign(nn, {Mat2::Zero(), Mat2::Zero()});
   std::vector<Mat2> dp, dm;
   for (int c = 0; c < params; ++c) {
     Vec3 xp = xi, xm = xi;
@@ -45,7 +46,7 @@ void third_derivatives(ElementType t, const Vec3& xi, int params, std::vector<st
     xm(c) -= kShapeStep;
     second_derivatives(t, xp, params, dp);
     second_derivatives(t, xm, params, dm);
-    for (int i = 0; i < e.num_nodes; ++i) d3[i][c] = (dp[i] - dm[i]) / (2 * kShapeStep);
+    for (int i = 0; i < nn; ++i) d3[i][c] = (dp[i] - dm[i]) / (2 * kShapeStep);
   }
 }
 
@@ -55,10 +56,10 @@ Vec3 normal_from_basis(const Vec3* a, int params) {
 }
 
 // Fills point, basis, metric, normal, curvature at fp.xi.
-void evaluate(ElementType t, const std::vector<Vec3>& x, int params, FacetProjection& fp, const Vec3& p) {
+void evaluate(const FacetBasis& t, const std::vector<Vec3>& x, int params, FacetProjection& fp, const Vec3& p) {
   VecX N;
   MatX dN;
-  shape_functions(t, fp.xi, N, dN);
+  t.eval(fp.xi, N, dN);
   fp.point.setZero();
   fp.a[0].setZero();
   fp.a[1].setZero();
@@ -81,29 +82,62 @@ void evaluate(ElementType t, const std::vector<Vec3>& x, int params, FacetProjec
 
 }  // namespace
 
-bool inside_reference(ElementType facet, const Vec3& xi, Real tol) {
-  const ElementInfo& e = element_info(facet);
+int FacetBasis::num_nodes() const {
+  return smooth ? 2 + has_prev + has_next : element_info(type).num_nodes;
+}
+
+bool FacetBasis::simplex() const { return element_info(type).family == ShapeFamily::simplex; }
+
+void FacetBasis::eval(const Vec3& xi, VecX& N, MatX& dN) const {
+  if (!smooth) {
+    shape_functions(type, xi, N, dN);
+    return;
+  }
+  // Weights of x_prev, x_a, x_b, x_next (see the header), then the ghosts folded in:
+  // x_prev = 2 x_a - x_b, x_next = 2 x_b - x_a.
+  const Real t = 0.5 * (xi(0) + 1), t2 = t * t, t3 = t2 * t;
+  const Real h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  const Real d00 = 6 * t2 - 6 * t, d10 = 3 * t2 - 4 * t + 1, d01 = -6 * t2 + 6 * t, d11 = 3 * t2 - 2 * t;
+  Real w[4] = {-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11};
+  Real dw[4] = {-0.5 * d10, d00 - 0.5 * d11, d01 + 0.5 * d10, 0.5 * d11};
+  for (Real* v : {w, dw}) {
+    if (!has_prev) v[1] += 2 * v[0], v[2] -= v[0], v[0] = 0;
+    if (!has_next) v[2] += 2 * v[3], v[1] -= v[3], v[3] = 0;
+  }
+  const int n = num_nodes();
+  N.resize(n);
+  dN.setZero(n, 1);
+  int k = 0;
+  for (int i = 0; i < 4; ++i) {
+    if ((i == 0 && !has_prev) || (i == 3 && !has_next)) continue;
+    N(k) = w[i];
+    dN(k, 0) = 0.5 * dw[i];  // dt/dxi = 1/2
+    ++k;
+  }
+}
+
+bool inside_reference(const FacetBasis& facet, const Vec3& xi, Real tol) {
+  const ElementInfo& e = element_info(facet.type);
   if (e.family == ShapeFamily::simplex) return xi(0) >= -tol && xi(1) >= -tol && xi(0) + xi(1) <= 1 + tol;
   for (int d = 0; d < e.dim; ++d)
     if (std::abs(xi(d)) > 1 + tol) return false;
   return true;
 }
 
-Vec3 facet_normal(ElementType facet, const std::vector<Vec3>& x, const Vec3& xi, int dim) {
+Vec3 facet_normal(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& xi, int dim) {
   FacetProjection fp;
   fp.xi = xi;
   evaluate(facet, x, dim - 1, fp, Vec3::Zero());
   return fp.normal;
 }
 
-FacetProjection project_on_facet(ElementType facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
+FacetProjection project_on_facet(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
                                  Real inside_tolerance) {
-  const ElementInfo& e = element_info(facet);
   FacetProjection fp;
   fp.params = dim - 1;
   const int np = fp.params;
   // Start from the facet centre.
-  fp.xi = e.family == ShapeFamily::simplex ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Zero();
+  fp.xi = facet.simplex() ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Zero();
   // Newton on F_alpha = a_alpha . (p - x(xi)) = 0 with Jacobian -(A - g H).
   for (int it = 0; it < 30; ++it) {
     evaluate(facet, x, np, fp, p);
@@ -128,17 +162,16 @@ FacetProjection project_on_facet(ElementType facet, const std::vector<Vec3>& x, 
   return fp;
 }
 
-void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
+void gap_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
                     MatX& hess, MatX* dxi) {
   // Notation (derivation in docs/contact.md): y = x_s - sum N_i x_i at fixed xi,
   //   Y_g = d(a_g . y), Q_a = d(n . sum N_i,a x_i), M = A - g H,
   //   Xi_b = d(xi_b) = M^-1 (Y + g Q), grad g = d(n . y) = [n, -N_1 n, ...],
   //   hess g = -A^{ag} Y_g (x) (Q_a + H_ab Xi_b) - Q_a (x) Xi_a.
-  const ElementInfo& e = element_info(facet);
-  const int nn = e.num_nodes, np = fp.params, n = (nn + 1) * dim;
+  const int nn = facet.num_nodes(), np = fp.params, n = (nn + 1) * dim;
   VecX N;
   MatX dN;
-  shape_functions(facet, fp.xi, N, dN);
+  facet.eval(fp.xi, N, dN);
   grad.setZero(n);
   std::vector<VecX> Y(np, VecX::Zero(n)), Q(np, VecX::Zero(n)), Xi(np, VecX::Zero(n));
   for (int d = 0; d < dim; ++d) {
@@ -178,7 +211,7 @@ void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetPr
   }
 }
 
-void parameter_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
+void parameter_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
                           MatX& dxi, std::vector<MatX>& d2xi) {
   // F_a(u, xi) = a_a(xi; u) . r(xi; u), r = x_s - x(xi), is bilinear in the nodal positions at
   // fixed xi. With the linear maps d a_a = Aa[a] du, d r = R du, d a_ab = Aab[a][b] du:
@@ -190,11 +223,10 @@ void parameter_variations(ElementType facet, const std::vector<Vec3>& x, const F
   // Differentiating F_a(u, xi(u)) = 0 once gives M dxi = F_u, twice
   //   M_ab d2xi_b = F_a,uu + sum_c (F_a,uxi_c (x) dxi_c + dxi_c (x) F_a,uxi_c)
   //                 + sum_cd F_a,xi_c xi_d dxi_c (x) dxi_d.
-  const ElementInfo& e = element_info(facet);
-  const int nn = e.num_nodes, np = fp.params, n = (nn + 1) * dim;
+  const int nn = facet.num_nodes(), np = fp.params, n = (nn + 1) * dim;
   VecX N;
   MatX dN;
-  shape_functions(facet, fp.xi, N, dN);
+  facet.eval(fp.xi, N, dN);
   std::vector<Mat2> d2;
   second_derivatives(facet, fp.xi, np, d2);
   std::vector<std::array<Mat2, 2>> d3;

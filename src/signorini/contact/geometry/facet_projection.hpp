@@ -14,6 +14,37 @@ namespace signorini {
 
 using Mat2 = Eigen::Matrix<Real, 2, 2>;
 
+// The parameterisation x(xi) = sum_i N_i(xi) x_i of a master facet: the mesh facet's own
+// shape functions, or (2D, `smooth`) a cubic Hermite segment between the facet's two nodes
+// whose end tangents are the chords of the neighbouring segments, Catmull-Rom style:
+//   x(t) = h00 x_a + h10 m_a + h01 x_b + h11 m_b,  t = (xi + 1)/2,
+//   m_a = (x_b - x_prev)/2, m_b = (x_next - x_a)/2  (tangents per unit t),
+// with the cubic Hermite polynomials h00 = 2t^3 - 3t^2 + 1, h10 = t^3 - 2t^2 + t,
+// h01 = -2t^3 + 3t^2, h11 = t^3 - t^2. Neighbouring segments share the end point and the
+// tangent direction, so the normal is continuous across nodes (G1); where a neighbour is
+// missing (the end of the surface, or a corner kept sharp) a ghost node 2 x_a - x_b stands
+// in for it, which makes the end tangent the segment's chord. Nodes: [prev], a, b, [next].
+// The positions enter linearly, so the gap variations hold unchanged (Wriggers 2006,
+// sec. 9.4 discusses Hermite and Bezier smoothing of 2D master surfaces).
+struct FacetBasis {
+  ElementType type = ElementType::line2;  // reference domain; the shape functions unless smooth
+  bool smooth = false;
+  bool has_prev = false, has_next = false;  // smooth: neighbour nodes present
+  FacetBasis() = default;
+  FacetBasis(ElementType t) : type(t) {}  // NOLINT: a mesh facet is its own basis
+  static FacetBasis hermite(bool prev, bool next) {
+    FacetBasis b(ElementType::line2);
+    b.smooth = true;
+    b.has_prev = prev;
+    b.has_next = next;
+    return b;
+  }
+  int num_nodes() const;
+  bool simplex() const;
+  // N (num_nodes) and dN (num_nodes x parameters) at xi.
+  void eval(const Vec3& xi, VecX& N, MatX& dN) const;
+};
+
 struct FacetProjection {
   int params = 1;            // facet parameters: 1 (2D: line2, line3) or 2 (3D surfaces)
   Vec3 xi = Vec3::Zero();    // parameters of the closest point
@@ -29,19 +60,19 @@ struct FacetProjection {
 };
 
 // The outward normal of a facet at parameters xi; `dim` is the space dimension (2 or 3).
-Vec3 facet_normal(ElementType facet, const std::vector<Vec3>& x, const Vec3& xi, int dim);
+Vec3 facet_normal(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& xi, int dim);
 
 // Closest-point projection of `p` on the facet with current nodal positions `x`.
-FacetProjection project_on_facet(ElementType facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
+FacetProjection project_on_facet(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& p, int dim,
                                  Real inside_tolerance = 1e-9);
 
 // Whether xi lies in the facet's reference domain, up to tol.
-bool inside_reference(ElementType facet, const Vec3& xi, Real tol);
+bool inside_reference(const FacetBasis& facet, const Vec3& xi, Real tol);
 
 // Gradient and Hessian of the gap with respect to the DOFs [x_slave, x_1, ..., x_N]
 // (dim components per node) at a converged projection; `dxi` (optional) gets the gradient of
 // each facet parameter (one column per parameter).
-void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
+void gap_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim, VecX& grad,
                     MatX& hess, MatX* dxi = nullptr);
 
 // First and second variations of the facet parameters xi_b of the closest point with respect
@@ -49,7 +80,7 @@ void gap_variations(ElementType facet, const std::vector<Vec3>& x, const FacetPr
 // `d2xi[b]` the Hessian of xi_b. Needed by the tangent of the tangential slip (friction).
 // Derivation in docs/contact.md: the implicit function theorem applied twice to the
 // projection condition F_a = a_a . (x_s - x(xi)) = 0 (Wriggers 2006, sec. 4.3, eq. 4.51 ff.).
-void parameter_variations(ElementType facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
+void parameter_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
                           MatX& dxi, std::vector<MatX>& d2xi);
 
 // Node-to-vertex: gap s |x_s - x_v| with s = sign((x_s - x_v) . n_ref) for a reference
