@@ -194,6 +194,15 @@ TEST(Friction, ReturnMapStickSlipAndApex) {
   ReturnMap apex = return_map(trial, 0.0);
   EXPECT_TRUE(apex.slip);
   EXPECT_EQ(apex.traction, Vec3::Zero());
+  // The chattering guard's holds: slip from inside the disc goes to the rim, stick from
+  // outside keeps the trial traction.
+  ReturnMap held_slip = return_map(trial, 0.6, 2);
+  EXPECT_TRUE(held_slip.slip);
+  EXPECT_NEAR(held_slip.traction.norm(), 0.6, 1e-15);
+  EXPECT_NEAR(held_slip.traction.dot(trial) / (0.6 * 0.5), 1.0, 1e-15);
+  ReturnMap held_stick = return_map(trial, 0.2, 1);
+  EXPECT_FALSE(held_stick.slip);
+  EXPECT_EQ(held_stick.traction, trial);
   // Derivatives in the slip state against central differences.
   const Real h = 1e-7;
   for (int k = 0; k < 3; ++k) {

@@ -98,6 +98,9 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     origin_point_.assign(n, Vec3::Zero());
     has_origin_.assign(n, 0);
     traction_old_.assign(n, Vec3::Zero());
+    friction_flips_.assign(n, 0);
+    last_slip_.assign(n, 0);
+    friction_hold_.assign(n, 0);
     traction_committed_.assign(n, Vec3::Zero());
     committed_friction_.assign(n, 0);
     slip_increment_.assign(n, 0.0);
@@ -181,6 +184,9 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
   frozen_reported_ = 0;
   shift_ = shift_committed_;
   if (!frictional()) return;
+  std::fill(friction_flips_.begin(), friction_flips_.end(), 0);
+  std::fill(friction_hold_.begin(), friction_hold_.end(), 0);
+  for (size_t j = 0; j < last_slip_.size(); ++j) last_slip_[j] = committed_friction_[j] == 2;
   traction_old_ = traction_committed_;  // undoes the augmented Lagrangian's updates of a failed attempt
   // The slip origins: where each slave node touches the master material now.
   build_constraints(x, z);
@@ -275,6 +281,7 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
     in.friction = friction_.get();
     in.tangential_stiffness = &tangential_stiffness_;
     in.traction_old = &traction_old_;
+    in.friction_hold = &friction_hold_;
   }
   enforcement_->assemble(in, z, residual, K, state_);
 }
@@ -290,12 +297,21 @@ void ContactInterface::count_status_changes() {
       forced_[j] = state_.active[j] ? 1 : -1;
       newly_frozen.push_back(slave_.nodes[j]);
     }
+    // Stick/slip of a closed node: held in its status after max_flips changes.
+    if (frictional() && state_.active[j] && j < state_.slip.size()) {
+      if (state_.slip[j] != last_slip_[j]) ++friction_flips_[j];
+      last_slip_[j] = state_.slip[j];
+      if (friction_flips_[j] > s_.max_flips && !friction_hold_[j]) {
+        friction_hold_[j] = state_.slip[j] ? 2 : 1;
+        newly_frozen.push_back(slave_.nodes[j]);
+      }
+    }
   }
   if (!newly_frozen.empty()) {
     std::string ids;
     for (size_t k = 0; k < newly_frozen.size() && k < 20; ++k) ids += (k ? ", " : "") + std::to_string(newly_frozen[k]);
-    log::warning("contact '{}': {} slave node(s) changed status more than {} times in this increment and are held in "
-                 "their status until it ends (node indices {}{})",
+    log::warning("contact '{}': {} slave node(s) changed status (open/closed or stick/slip) more than {} times in this "
+                 "increment and are held in their status until it ends (node indices {}{})",
                  label_, newly_frozen.size(), s_.max_flips, ids, newly_frozen.size() > 20 ? ", ..." : "");
     frozen_reported_ += static_cast<Index>(newly_frozen.size());
   }
@@ -311,7 +327,24 @@ Index ContactInterface::fix_held_nodes() {
       ++changed;
     }
   }
+  // A node held in stick (slip) whose trial traction ends outside (inside) the friction disc
+  // beyond the tolerance takes the other status, once.
+  for (size_t j = 0; j < friction_hold_.size() && j < state_.active.size(); ++j)
+    if (state_.active[j] && friction_hold_[j] && friction_flips_[j] < kSwapped && friction_violation(j) > 0) {
+      friction_hold_[j] = friction_hold_[j] == 1 ? 2 : 1;
+      friction_flips_[j] = kSwapped;
+      ++changed;
+    }
   return changed;
+}
+
+Real ContactInterface::friction_violation(size_t j) const {
+  // How far a held node's trial traction lies on the wrong side of the disc's rim, beyond
+  // kHeldFrictionTolerance of the bound (<= 0: within the tolerance).
+  const Real excess = state_.cone_excess[j];
+  const Real bound = std::abs(state_.traction[j].norm() - (friction_hold_[j] == 1 ? excess : 0.0));
+  const Real wrong = friction_hold_[j] == 1 ? excess : -excess;
+  return wrong - kHeldFrictionTolerance * bound;
 }
 
 std::vector<ContactInterface::SlaveState> ContactInterface::slave_states() const {
@@ -406,6 +439,8 @@ Index ContactInterface::frozen_in_tension() const {
     if (forced_[j] > 0 && state_.pressure[j] < 0) ++n;
     if (forced_[j] < 0 && constraints_[j].kind != ConstraintKind::none && -constraints_[j].gap > 1e-3 * node_size_[j]) ++n;
   }
+  for (size_t j = 0; j < friction_hold_.size() && j < state_.active.size(); ++j)
+    if (state_.active[j] && friction_hold_[j] && friction_violation(j) > 0) ++n;
   return n;
 }
 

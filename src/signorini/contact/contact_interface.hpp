@@ -75,7 +75,9 @@ class ContactInterface {
   // (returns how many; Newton must go on then).
   Index fix_held_nodes();
   // Held nodes whose final state violates the contact conditions (the increment is then not
-  // a solution and is cut back).
+  // a solution and is cut back): closed in tension, open and penetrating, or held in stick
+  // (slip) with the trial traction outside (inside) the friction disc by more than 2 % of
+  // its radius.
   Index frozen_in_tension() const;
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();
@@ -138,6 +140,15 @@ class ContactInterface {
   std::vector<char> has_origin_;
   std::vector<Vec3> traction_old_, traction_committed_;
   std::vector<signed char> committed_friction_;  // per slave node: 0 open, 1 stick, 2 slip
+  // Chattering guard of the stick/slip status (as flips_/forced_ for open/closed): flips of
+  // a closed node's status in this increment, the status of the last iterate, and the hold
+  // (0 none, 1 stick, 2 slip) passed to the return map.
+  std::vector<int> friction_flips_;
+  std::vector<char> last_slip_;
+  std::vector<signed char> friction_hold_;
+  static constexpr int kSwapped = 1 << 20;               // friction_flips_ of a hold swapped once
+  static constexpr Real kHeldFrictionTolerance = 0.02;   // of the bound
+  Real friction_violation(size_t j) const;
   std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
   void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);

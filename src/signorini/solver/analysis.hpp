@@ -3,6 +3,7 @@
 // backtracking line search. It owns the iteration state; the Model stays read-only
 // (bodies keep their material history).
 #pragma once
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
@@ -107,6 +108,8 @@ class Analysis {
   bool symmetric_ = true;
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
   bool condense_reported_ = false;
+  // SIGNORINI_CHECK_TANGENT=1: log the tangent against central differences along each Newton step.
+  bool check_tangent_ = std::getenv("SIGNORINI_CHECK_TANGENT") != nullptr;
   VecX u_, u_converged_, reactions_;
   VecX last_du_;          // displacement change of the last converged increment of this step
   Real last_dl_ = 0;      // its size (0: no predictor available)

@@ -35,6 +35,7 @@ class Penalty : public Enforcement {
     out.active.assign(n, 0);
     out.traction.assign(n, Vec3::Zero());
     out.slip.assign(n, 0);
+    out.cone_excess.assign(n, 0.0);
 #pragma omp parallel
     {
       std::vector<Index> dofs;
@@ -78,9 +79,10 @@ class Penalty : public Enforcement {
     const Vec3 v = (*in.traction_old)[j] + epst * c.slip;
     const Vec3 trial = v - n * n.dot(v);
     const Real bound = in.friction->bound(p);
-    const ReturnMap rm = return_map(trial, bound);
+    const ReturnMap rm = return_map(trial, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
     out.traction[j] = rm.traction;
     out.slip[j] = rm.slip;
+    out.cone_excess[j] = trial.norm() - bound;
     const MatX& D = c.slip_jacobian;
     add_vector(residual, dofs, -c.weight * (D.transpose() * rm.traction.head(dim)), 1.0);
     if (!k) return;

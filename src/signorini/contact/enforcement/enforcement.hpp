@@ -33,6 +33,7 @@ struct EnforcementInput {
   const FrictionLaw* friction = nullptr;
   const std::vector<Real>* tangential_stiffness = nullptr;
   const std::vector<Vec3>* traction_old = nullptr;
+  const std::vector<signed char>* friction_hold = nullptr;  // per constraint: 0, 1 hold stick, 2 hold slip
 };
 
 struct EnforcementOutput {
@@ -40,6 +41,7 @@ struct EnforcementOutput {
   std::vector<char> active;
   std::vector<Vec3> traction;  // friction: tangential traction on the master (slave: minus it)
   std::vector<char> slip;      // friction: 1 slip, 0 stick
+  std::vector<Real> cone_excess;  // friction: |t_trial| - bound (> 0: outside the disc)
 };
 
 class Enforcement {

@@ -30,8 +30,10 @@ class FrictionLaw {
 };
 
 // Projection of `trial` onto the disc of radius `bound` (bound >= 0). At the cone apex
-// (bound = 0) the traction is zero and counts as slip.
-ReturnMap return_map(const Vec3& trial, Real bound);
+// (bound = 0) the traction is zero and counts as slip. `hold` (the chattering guard) imposes
+// the branch: 1 stick (traction = trial, even outside the disc), 2 slip (traction on the
+// rim in the trial's direction, even from inside); 0 chooses by |trial| <= bound.
+ReturnMap return_map(const Vec3& trial, Real bound, int hold = 0);
 
 // law: "coulomb" (parameter mu), "tresca" (parameter: the bound), "none".
 std::unique_ptr<FrictionLaw> make_friction_law(const std::string& law, Real parameter);
