@@ -345,3 +345,73 @@ INSTANTIATE_TEST_SUITE_P(Penalty, FrictionTangent,
                                            FrictionCase{"node_to_segment", false, false, "augmented_lagrangian",
                                                         "hermite"}),
                          friction_name);
+
+// The stick/slip chattering guard: a closed node whose status flips more than max_flips times
+// among the accepted iterates of an increment is held in its status; at convergence a hold on
+// the wrong side of the friction disc is swapped once (fix_held_nodes), and one still wrong is
+// reported (frozen_in_tension), so the increment would be cut back.
+TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
+  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
+  orient_facets(mesh);
+  AnalysisSettings as;
+  as.dimension = Dimension::plane_strain;
+  std::vector<const ElementBlock*> cells;
+  for (auto& [n, blocks] : mesh.regions)
+    for (auto& b : blocks) cells.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), 2, cells);
+  const Index nz = dofs.num_dofs();
+  VecX z0 = VecX::Zero(nz);
+  for (Index n : mesh.node_sets["upper_domain"]) z0(dofs.dof(n, 1)) = -0.005;  // pressed in uniformly
+  // Rigid tangential shifts of the upper block: small (every closed node sticks), large (slips).
+  auto shifted = [&](Real s) {
+    VecX z = z0;
+    for (Index n : mesh.node_sets["upper_domain"]) z(dofs.dof(n, 0)) += s;
+    return z;
+  };
+  ContactPairSettings cs;
+  cs.name = "c";
+  cs.method = "penalty";
+  cs.master = "lower_ymax";
+  cs.slave = "upper_ymin";
+  cs.friction = "coulomb";
+  cs.friction_parameter = 0.3;
+  cs.tangential_penalty = 5000;
+  cs.max_flips = 2;
+  ContactInterface ci(cs, mesh, as, 100.0, false);
+  ci.set_multiplier_offset(nz);
+  ci.detect(test::cells_of_positions(mesh, dofs, z0), 0.05);
+  ci.begin_increment(test::cells_of_positions(mesh, dofs, z0), z0);
+  auto evaluate = [&](const VecX& z) {
+    VecX r = VecX::Zero(nz);
+    ci.assemble(test::cells_of_positions(mesh, dofs, z), z, dofs, r, nullptr);
+  };
+  auto count = [&](bool slip) {
+    Index n = 0;
+    for (size_t j = 0; j < ci.state().active.size(); ++j) n += ci.state().active[j] && ci.state().slip[j] == slip;
+    return n;
+  };
+  const VecX stick = shifted(1e-6), slip = shifted(0.02);
+  evaluate(stick);
+  const Index closed = count(false);
+  ASSERT_GT(closed, 0);
+  ASSERT_EQ(count(true), 0) << "a tiny shift should leave every closed node sticking";
+  evaluate(slip);
+  // (the slave's end node, shifted beyond the master's end, may stay as it was)
+  const Index flipping = count(true);
+  ASSERT_GE(flipping, closed - 1) << "a large shift should make the closed nodes slip";
+  // Flip the status max_flips + 1 times: the nodes are then held in the status they have.
+  for (int k = 0; k <= cs.max_flips; ++k) {
+    evaluate(k % 2 == 0 ? slip : stick);
+    ci.count_status_changes();
+  }
+  evaluate(stick);
+  EXPECT_EQ(count(true), flipping) << "held in slip, the nodes slip even where the trial traction is inside the disc";
+  EXPECT_EQ(ci.frozen_in_tension(), flipping) << "held slip with the trial deep inside the disc is a violation";
+  EXPECT_EQ(ci.fix_held_nodes(), flipping) << "the wrong hold is swapped once";
+  evaluate(stick);
+  EXPECT_EQ(count(false), closed);
+  EXPECT_EQ(ci.frozen_in_tension(), 0);
+  evaluate(slip);
+  EXPECT_EQ(ci.frozen_in_tension(), flipping) << "held in stick now, a large slip is a violation";
+  EXPECT_EQ(ci.fix_held_nodes(), 0) << "a hold is swapped only once";
+}

@@ -263,7 +263,7 @@ void register_deck_sections(Registry& r) {
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),
           number("penalty_factor", "factor of the automatic penalty", "10", 0, INFINITY, true),
-          number("max_flips", "status changes of a node in one increment before it is held closed", "6", 1, 1000),
+          number("max_flips", "status changes (open/closed, stick/slip) of a node in one increment before it is held in its status", "6", 1, 1000),
           text("gap_tolerance", "augmented_lagrangian: largest penetration accepted, or auto = 1e-3 x mean slave "
                                 "facet size", "auto", ParamKind::any),
           number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000)}});
