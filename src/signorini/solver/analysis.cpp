@@ -1,7 +1,6 @@
 #include "signorini/solver/analysis.hpp"
 
 #include <algorithm>
-#include <map>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <functional>
@@ -308,6 +307,55 @@ void Analysis::begin_step(int s) {
   }
 }
 
+std::map<Index, std::string> Analysis::contact_view() const {
+  std::map<Index, std::string> v;
+  for (auto& c : contacts_)
+    for (size_t j = 0; j < c->constraints().size(); ++j) {
+      const Constraint& k = c->constraints()[j];
+      v[k.slave] += fmt::format(" [kind {} facet {} gap {:.3e} active {} slip {}]", static_cast<int>(k.kind), k.facet,
+                                k.gap, static_cast<int>(c->state().active[j]),
+                                j < c->state().slip.size() ? static_cast<int>(c->state().slip[j]) : -1);
+    }
+  return v;
+}
+
+void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real du_max) {
+  // The tangent along the Newton direction against central differences of the residual,
+  // -dR/du du ~ K du. A large error points at an inconsistent tangent or a kink of the
+  // residual (a status change: the constraints on either side are logged).
+  const Real h = 1e-6 / std::max(du_max, Real(1e-300));
+  VecX rp, rm;
+  const SparseMatrix K = system_.matrix();
+  u_ = u0 + h * du;
+  evaluate(lambda, false, rp);
+  const auto view_p = contact_view();
+  u_ = u0 - h * du;
+  evaluate(lambda, false, rm);
+  const auto view_m = contact_view();
+  u_ = u0;
+  const VecX fd = (rm - rp) / (2 * h), kd = K * du;
+  Real err = 0, ref = 0;
+  Index worst = -1;
+  for (Index i = 0; i < fd.size(); ++i) {
+    if (constrained_[i]) continue;
+    if (std::abs(fd(i) - kd(i)) > err) err = std::abs(fd(i) - kd(i)), worst = i;
+    ref = std::max(ref, std::abs(kd(i)));
+  }
+  Index big = 0;
+  du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff(&big);
+  auto node_of = [&](Index dof) {
+    for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
+      for (int d = 0; d < dofs_.dofs_per_node(); ++d)
+        if (dofs_.has_dofs(nd) && dofs_.dof(nd, d) == dof) return nd;
+    return Index(-1);
+  };
+  const Index worst_node = node_of(worst), big_node = node_of(big);
+  log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (unknown {}, node {}), max |du| {:.3e} at node {}",
+            ref > 0 ? err / ref : err, worst, worst_node, du_max, big_node);
+  if (view_p.count(worst_node))
+    log::info("      at +h:{}\n      at -h:{}", view_p.at(worst_node), view_m.at(worst_node));
+}
+
 bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
   NewtonSettings ns = model_.newton;
   // The residual norm is no merit function for the semi-smooth Newton method of contact
@@ -395,55 +443,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       summary_.solve_seconds += ts.seconds();
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
-      // Diagnostic: what each contact constraint of a node looks like at a state.
-      auto contact_view = [&]() {
-        std::map<Index, std::string> v;
-        for (auto& c : contacts_)
-          for (size_t j = 0; j < c->constraints().size(); ++j) {
-            const Constraint& k = c->constraints()[j];
-            v[k.slave] += fmt::format(" [kind {} facet {} gap {:.3e} active {} slip {}]", static_cast<int>(k.kind),
-                                      k.facet, k.gap, static_cast<int>(c->state().active[j]),
-                                      j < c->state().slip.size() ? static_cast<int>(c->state().slip[j]) : -1);
-          }
-        return v;
-      };
       std::map<Index, std::string> view_before;
-      if (check_tangent_) view_before = contact_view();
       if (check_tangent_) {
-        // Diagnostic (SIGNORINI_CHECK_TANGENT=1): the tangent along the Newton direction
-        // against central differences of the residual, -dR/du du ~ K du. A large error
-        // points at an inconsistent tangent or a kink of the residual (a status change).
-        const Real h = 1e-6 / std::max(du_max, Real(1e-300));
-        VecX rp, rm;
-        const SparseMatrix K = system_.matrix();
-        u_ = u0 + h * du;
-        evaluate(lambda, false, rp);
-        const auto view_p = contact_view();
-        u_ = u0 - h * du;
-        evaluate(lambda, false, rm);
-        const auto view_m = contact_view();
-        u_ = u0;
-        const VecX fd = (rm - rp) / (2 * h), kd = K * du;
-        Real err = 0, ref = 0;
-        Index worst = -1;
-        for (Index i = 0; i < fd.size(); ++i) {
-          if (constrained_[i]) continue;
-          if (std::abs(fd(i) - kd(i)) > err) err = std::abs(fd(i) - kd(i)), worst = i;
-          ref = std::max(ref, std::abs(kd(i)));
-        }
-        Index big = 0;
-        du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff(&big);
-        Index worst_node = -1, big_node = -1;
-        for (Index nd = 0; nd < dofs_.num_nodes() && worst_node < 0; ++nd)
-          for (int d = 0; d < dofs_.dofs_per_node(); ++d)
-            if (dofs_.has_dofs(nd) && dofs_.dof(nd, d) == worst) worst_node = nd;
-        for (Index nd = 0; nd < dofs_.num_nodes() && big_node < 0; ++nd)
-          for (int d = 0; d < dofs_.dofs_per_node(); ++d)
-            if (dofs_.has_dofs(nd) && dofs_.dof(nd, d) == big) big_node = nd;
-        log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (unknown {}, node {}), max |du| {:.3e} at node {}",
-                  ref > 0 ? err / ref : err, worst, worst_node, du_max, big_node);
-        if (view_p.count(worst_node))
-          log::info("      at +h:{}\n      at -h:{}", view_p.at(worst_node), view_m.at(worst_node));
+        view_before = contact_view();
+        check_tangent(lambda, u0, du, du_max);
       }
       // Backtracking line search on the residual norm.
       Real alpha = 1;

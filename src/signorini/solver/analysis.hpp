@@ -4,6 +4,7 @@
 // (bodies keep their material history).
 #pragma once
 #include <cstdlib>
+#include <map>
 #include <functional>
 #include <string>
 #include <vector>
@@ -97,6 +98,11 @@ class Analysis {
   void rebuild_pattern();
   void begin_step(int s);
   bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
+  // Diagnostics of SIGNORINI_CHECK_TANGENT: each slave node's contact constraints (kind,
+  // facet, gap, closed, slip) as text, from the last evaluation; the tangent along the Newton
+  // step du from u0 against central differences of the residual, logged.
+  std::map<Index, std::string> contact_view() const;
+  void check_tangent(Real lambda, const VecX& u0, const VecX& du, Real du_max);
 
   Model& model_;
   DofMap dofs_;
