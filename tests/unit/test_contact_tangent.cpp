@@ -256,15 +256,15 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
   DofMap dofs(mesh.num_nodes(), dim, cells);
   // Start of the increment: the slave side pressed in; then a tangential motion of varying
   // size, so that some closed nodes stick and others slip.
-  const Index nz = dofs.num_dofs() + (fc.rigid ? dim : 0);
-  VecX z0 = VecX::Zero(nz);
+  const Index nu = dofs.num_dofs() + (fc.rigid ? dim : 0);
+  VecX z0 = VecX::Zero(nu);
   const int vert = dim - 1;
   const std::string moving = fc.rigid ? "domain" : "upper_domain";
   for (Index n : mesh.node_sets[moving]) {
     const Vec3& X = mesh.nodes[n];
     z0(dofs.dof(n, vert)) = (fc.rigid ? 1 : -1) * (0.004 + 0.006 * std::sin(7 * X(0) + 3 * X(1)));
   }
-  if (fc.rigid) z0(nz - 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
+  if (fc.rigid) z0(nu - 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
   if (fc.smoothing != "none") bend_lower_block(mesh, dofs, dim, z0);
   VecX z = z0;
   for (Index n : mesh.node_sets[moving]) {
@@ -272,7 +272,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     z(dofs.dof(n, 0)) += 0.004 * std::cos(5 * X(0) + 2 * X(vert)) + 0.002;
     if (dim == 3) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
   }
-  if (fc.rigid) z(nz - 2) = 0.003;
+  if (fc.rigid) z(nu - 2) = 0.003;
   // The tangential penalty that gives a mix of sticking and slipping nodes for this motion.
   bool checked = false;
   for (Real epst : {4000.0, 1000.0, 16000.0, 250.0, 64000.0, 60.0}) {
@@ -297,20 +297,36 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     ContactInterface ci(cs, mesh, as, 100.0, false);
     ASSERT_TRUE(ci.frictional());
     ASSERT_FALSE(ci.symmetric());
+    // Unknowns: displacements, multipliers (Lagrange: normal, then dim tangential per slave
+    // node), the obstacle's displacement.
+    const Index nm = ci.num_multipliers(), nz = nu + nm;
     ci.set_multiplier_offset(dofs.num_dofs());
-    ci.set_obstacle_dofs(dofs.num_dofs());
-    ci.detect(test::cells_of_positions(mesh, dofs, z0), 0.05);
-    ci.begin_increment(test::cells_of_positions(mesh, dofs, z0), z0);
+    ci.set_obstacle_dofs(dofs.num_dofs() + nm);
+    auto with_multipliers = [&](const VecX& u) {
+      VecX zz = VecX::Zero(nz);
+      zz.head(dofs.num_dofs()) = u.head(dofs.num_dofs());
+      zz.tail(nu - dofs.num_dofs()) = u.tail(nu - dofs.num_dofs());
+      // Pressures of both signs (open and closed nodes), tangential tractions of varying size.
+      const Index ns = nm / (1 + dim);
+      for (Index j = 0; j < ns; ++j) {
+        zz(dofs.num_dofs() + j) = 0.6 * (j % 3) - 0.2;
+        for (int d = 0; d < dim; ++d) zz(dofs.num_dofs() + ns + j * dim + d) = 0.15 * std::sin(2.0 * j + d);
+      }
+      return zz;
+    };
+    const VecX zs = with_multipliers(z0);
+    ci.detect(test::cells_of_positions(mesh, dofs, zs), 0.05);
+    ci.begin_increment(test::cells_of_positions(mesh, dofs, zs), zs);
     auto residual = [&](const VecX& zz, GlobalMatrix* K) {
       VecX r = VecX::Zero(nz);
       ci.assemble(test::cells_of_positions(mesh, dofs, zz), zz, dofs, r, K);
       return r;
     };
-    VecX zc = z;
+    VecX zc = with_multipliers(z);
     if (fc.method == "augmented_lagrangian") {
       // One Uzawa update at z (normal and tangential multipliers, slip origins moved), then
       // the check at a state moved further.
-      residual(z, nullptr);
+      residual(zc, nullptr);
       Real pen = 0;
       ASSERT_FALSE(ci.uzawa_update(pen));
       for (Index n : mesh.node_sets[moving]) zc(dofs.dof(n, 0)) += 0.002 * std::sin(9 * mesh.nodes[n](0));
@@ -334,7 +350,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
   EXPECT_TRUE(checked) << "no tangential penalty gave both sticking and slipping nodes: nothing was checked";
 }
 
-INSTANTIATE_TEST_SUITE_P(Penalty, FrictionTangent,
+INSTANTIATE_TEST_SUITE_P(Methods, FrictionTangent,
                          ::testing::Values(FrictionCase{"node_to_segment", false, false},
                                            FrictionCase{"node_to_segment", true, false},
                                            FrictionCase{"node_to_node", false, false},
@@ -343,7 +359,13 @@ INSTANTIATE_TEST_SUITE_P(Penalty, FrictionTangent,
                                            FrictionCase{"node_to_segment", true, false, "augmented_lagrangian"},
                                            FrictionCase{"node_to_segment", false, false, "penalty", "hermite"},
                                            FrictionCase{"node_to_segment", false, false, "augmented_lagrangian",
-                                                        "hermite"}),
+                                                        "hermite"},
+                                           FrictionCase{"node_to_segment", false, false, "lagrange"},
+                                           FrictionCase{"node_to_segment", true, false, "lagrange"},
+                                           FrictionCase{"node_to_node", false, false, "lagrange"},
+                                           FrictionCase{"node_to_node", true, false, "lagrange"},
+                                           FrictionCase{"node_to_segment", false, true, "lagrange"},
+                                           FrictionCase{"node_to_segment", false, false, "lagrange", "hermite"}),
                          friction_name);
 
 // The stick/slip chattering guard: a closed node whose status flips more than max_flips times

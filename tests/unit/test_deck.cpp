@@ -233,8 +233,8 @@ const std::string kContact = kGood + R"(contact:
 TEST(Deck, ContactSectionErrors) {
   auto m = error_of("c_set", replace(kContact, "master: Top", "master: Roof"));
   EXPECT_MESSAGE(m, "c_set.yaml:17", "contact[0].master", "'Roof'", "Bottom, Left, Right, Top");
-  m = error_of("c_friction", kContact + "    friction: {law: coulomb, mu: 0.3}\n");
-  EXPECT_MESSAGE(m, "c_friction.yaml:19", "contact[0].friction", "{method: augmented_lagrangian} only", "lagrange");
+  m = error_of("c_friction", kContact + "    friction: {law: coulomb, mu: 0.3}\n    passes: 2\n");
+  EXPECT_MESSAGE(m, "c_friction.yaml:19", "contact[0].friction", "passes: 2", "one pass");
   m = error_of("c_mu", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb}\n");
   EXPECT_MESSAGE(m, "c_mu.yaml:20", "contact[0].friction", "needs 'mu'");
   m = error_of("c_mu_neg", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb, mu: -0.1}\n");

@@ -32,6 +32,7 @@ std::string block_deck(const std::string& drag_step) {
 
 TEST(Friction, BlockOnPlaneSticksBelowMuNAndSlidesAbove) {
   const Real mu = 0.3, N = 10;
+  for (const std::string method : {"penalty", "lagrange"})
   for (Real ratio : {0.95, 1.05}) {
     const Real T = ratio * mu * N;  // traction on a top of length 1: total force T
     const std::string step = "  - name: push\n"
@@ -40,11 +41,13 @@ TEST(Friction, BlockOnPlaneSticksBelowMuNAndSlidesAbove) {
                              "      - {set: Top, pressure: 10}\n"
                              "      - {set: Top, traction: [" +
                              std::to_string(T) + ", 0]}\n";
-    test::HertzRun r = test::run_deck_text(block_deck(step), "friction_block");
+    std::string deck = block_deck(step);
+    deck.replace(deck.find("{method: penalty}"), 17, "{method: " + method + "}");
+    test::HertzRun r = test::run_deck_text(deck, "friction_block");
     const auto& last = r.summary.increments.back();
     const Real reached = last.step == 1 ? last.fraction * T : 0.0;
-    std::printf("T = %.2f mu N: %s, last converged tangential load %.6f (mu N = %.1f), friction force %.6f\n", ratio,
-                r.summary.completed ? "completed" : "gave up", reached, mu * N,
+    std::printf("%s, T = %.2f mu N: %s, last converged tangential load %.6f (mu N = %.1f), friction force %.6f\n",
+                method.c_str(), ratio, r.summary.completed ? "completed" : "gave up", reached, mu * N,
                 r.summary.completed ? -r.checks[0].computed : 0.0);
     if (ratio < 1) {
       ASSERT_TRUE(r.summary.completed) << r.summary.failure;
@@ -74,6 +77,48 @@ TEST(Friction, AugmentedLagrangianSticksWithoutElasticSlip) {
   int updates = 0;
   for (auto& inc : r.summary.increments) updates += inc.uzawa_updates;
   EXPECT_GT(updates, 0) << "no Uzawa update: the test checks nothing beyond penalty";
+}
+
+TEST(Friction, LagrangeMultipliersStickWithoutSlip) {
+  // The block at T = 0.95 mu N with Lagrange multipliers (semi-smooth Newton on the
+  // tangential complementarity function): the friction force equals T, and the sticking
+  // nodes do not slip at all in the last increment (the penalty's elastic slip t / eps_T is
+  // gone), while the penalty method gives them a slip of that order.
+  const std::string step = "  - name: push\n"
+                           "    increments: {initial: 0.1, max: 0.1}\n"
+                           "    loads:\n"
+                           "      - {set: Top, pressure: 10}\n"
+                           "      - {set: Top, traction: [2.85, 0]}\n";
+  Real stick_slip[2] = {0, 0};
+  Index sticking[2] = {0, 0};
+  int k = 0;
+  for (const std::string method : {"lagrange", "penalty"}) {
+    std::string text = block_deck(step);
+    text.replace(text.find("{method: penalty}"), 17, "{method: " + method + "}");
+    const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
+                                      ("signorini_friction_lm_" + method + std::to_string(::getpid()) + ".yaml");
+    std::ofstream(tmp) << text;
+    Registry reg = default_registry();
+    Model m = read_deck(tmp.string(), reg);
+    Analysis a(m);
+    const AnalysisSummary s = a.run();
+    std::filesystem::remove(tmp);
+    ASSERT_TRUE(s.completed) << method << ": " << s.failure;
+    const auto checks = evaluate_checks(a);
+    EXPECT_NEAR(checks[0].computed, -2.85, 1e-6 * 2.85) << method;
+    for (const auto& st : a.contacts()[0]->slave_states())
+      if (st.status == 2) {
+        ++sticking[k];
+        stick_slip[k] = std::max(stick_slip[k], st.slip_increment);
+      }
+    ++k;
+  }
+  std::printf("largest slip of a sticking node in the last increment: lagrange %.3e (%lld nodes), penalty %.3e "
+              "(%lld nodes)\n",
+              stick_slip[0], (long long)sticking[0], stick_slip[1], (long long)sticking[1]);
+  ASSERT_GT(sticking[0], 0) << "no sticking node: nothing checked";
+  EXPECT_LT(stick_slip[0], 1e-12) << "a sticking node slipped (block of size 1)";
+  EXPECT_GT(stick_slip[1], 1e3 * std::max(stick_slip[0], 1e-15)) << "penalty's elastic slip should be visible";
 }
 
 TEST(Friction, DraggedBlockFrictionForceIsMuN) {

@@ -88,9 +88,6 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   facets_.corners = dim_ == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
   dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_;
   if (s_.friction != "none") {
-    if (s_.method == "lagrange")
-      throw Error("contact '" + s_.name + "': friction works with penalty or augmented Lagrangian enforcement only "
-                  "in this version");
     friction_ = make_friction_law(s_.friction, s_.friction_parameter);
     tangential_stiffness_.resize(n);
     for (Index j = 0; j < n; ++j) tangential_stiffness_[j] = s_.tangential_penalty > 0 ? s_.tangential_penalty : stiffness_[j];
@@ -171,7 +168,12 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
     }
     if (frictional() && has_origin_[j])
       for (auto [node, w] : origin_[j]) add_node(node);
-    if (uses_multipliers()) g.push_back(offset_ + static_cast<Index>(j));
+    if (uses_multipliers()) {
+      g.push_back(offset_ + static_cast<Index>(j));
+      if (frictional())
+        for (int d = 0; d < dim_; ++d)
+          g.push_back(offset_ + static_cast<Index>(candidate_.size() + j * dim_ + d));
+    }
     for (int d = 0; d < num_obstacle_dofs(); ++d) g.push_back(obstacle_dofs_ + d);
     out.push_back(std::move(g));
   }

@@ -40,7 +40,11 @@ class ContactInterface {
   bool symmetric() const { return enforcement_->symmetric() && !frictional(); }
   // A friction law other than frictionless.
   bool frictional() const { return friction_ != nullptr; }
-  Index num_multipliers() const { return uses_multipliers() ? static_cast<Index>(slave_.nodes.size()) : 0; }
+  // Lagrange: one normal multiplier per slave node, and with friction dim tangential ones
+  // after all the normal ones.
+  Index num_multipliers() const {
+    return uses_multipliers() ? static_cast<Index>(slave_.nodes.size()) * (frictional() ? 1 + dim_ : 1) : 0;
+  }
   void set_multiplier_offset(Index o) { offset_ = o; }
   Index multiplier_offset() const { return offset_; }
   // Penalty (or complementarity constant) of each slave node.

@@ -549,9 +549,6 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (cs.friction != "coulomb" && fn.has("mu")) fn.child("mu").fail("'mu' goes with law: coulomb");
       if (cs.friction != "tresca" && fn.has("bound")) fn.child("bound").fail("'bound' goes with law: tresca");
       if (fn.has("penalty")) cs.tangential_penalty = auto_or_positive(fn.child("penalty"));
-      if (cs.friction != "none" && cs.method == "lagrange")
-        fn.fail("friction works with enforcement: {method: penalty} or {method: augmented_lagrangian} only in this "
-                "version (this pair uses lagrange); Lagrange multipliers with friction are not available yet");
       if (cs.friction != "none" && cs.passes == 2)
         fn.fail("friction with passes: 2 is not available (use one pass)");
     }

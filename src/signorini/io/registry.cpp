@@ -238,12 +238,12 @@ void register_deck_sections(Registry& r) {
           opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),
           opt(text("friction", "{law, mu | bound, penalty} (see 'describe friction'); omit for frictionless", std::nullopt,
                    ParamKind::any))}});
-  r.add({"deck", "friction", "Friction on a contact pair (enforcement: penalty or augmented_lagrangian). The tangential traction stays "
+  r.add({"deck", "friction", "Friction on a contact pair (any enforcement). The tangential traction stays "
                              "within |t| <= bound: mu p (coulomb) or a constant (tresca); it sticks inside, slips on it.",
          {choice("law", "coulomb, tresca or none (frictionless)", {"coulomb", "tresca", "none"}, std::nullopt),
           opt(number("mu", "coulomb: the friction coefficient", std::nullopt, 0, INFINITY)),
           opt(number("bound", "tresca: the largest tangential traction", std::nullopt, 0, INFINITY)),
-          text("penalty", "tangential penalty (traction per unit slip), or auto = the normal penalty of the node",
+          text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity constant), or auto = the normal penalty of the node",
                "auto", ParamKind::any)}});
   r.add({"deck", "rigid", "A rigid analytic master surface; the body stays outside it (inside with inside: true). "
                           "It moves with {contact: <pair>, u: [...]} entries in a step's boundary list.",

@@ -110,8 +110,13 @@ class LagrangeMultipliers final : public Enforcement {
                 EnforcementOutput& out) const override {
     const ConstraintSet& cs = *in.constraints;
     const Index n = static_cast<Index>(cs.size());
+    const int dim = in.dim;
+    const bool friction = in.friction != nullptr;
     out.pressure.assign(n, 0.0);
     out.active.assign(n, 0);
+    out.traction.assign(friction ? n : 0, Vec3::Zero());
+    out.slip.assign(friction ? n : 0, 0);
+    out.cone_excess.assign(friction ? n : 0, 0.0);
     // Scale of the rows of nodes without a constraint (keeps the system regular).
     Real mean_w = 0;
     for (auto& c : cs) mean_w += c.weight;
@@ -127,15 +132,33 @@ class LagrangeMultipliers final : public Enforcement {
         const Index ldof = in.multiplier_offset + j;
         const Real lambda = z(ldof);
         out.pressure[j] = lambda;
+        // Friction: the tangential traction's multipliers, dim per constraint after the
+        // normal ones (a vector in space; its normal component is driven to zero).
+        Index tdof[3] = {-1, -1, -1};
+        VecX lt = VecX::Zero(dim);
+        if (friction)
+          for (int d = 0; d < dim; ++d) {
+            tdof[d] = in.multiplier_offset + n + j * dim + d;
+            lt(d) = z(tdof[d]);
+          }
+        // Rows s lambda = 0 (no contact force).
+        auto release = [&](Index row, Real value, Real s) {
+#pragma omp atomic
+          residual(row) -= s * value;
+          if (K) {
+            MatX one = MatX::Constant(1, 1, s);
+            K->add(&row, 1, one);
+          }
+        };
+        auto release_tangential = [&](Real s) {
+          if (friction)
+            for (int d = 0; d < dim; ++d) release(tdof[d], lt(d), s);
+        };
         if (c.kind == ConstraintKind::none || !(c.weight > 0)) {
           // No master within reach: lambda = 0.
           const Real s = c.weight > 0 ? c.weight : mean_w;
-#pragma omp atomic
-          residual(ldof) -= s * lambda;
-          if (K) {
-            MatX one = MatX::Constant(1, 1, s);
-            K->add(&ldof, 1, one);
-          }
+          release(ldof, lambda, s);
+          release_tangential(s);
           continue;
         }
         const Real c0 = (*in.stiffness)[j];
@@ -150,31 +173,79 @@ class LagrangeMultipliers final : public Enforcement {
         // neither its force nor its -lambda w hess g to the tangent, which would make the
         // bodies' block indefinite.
         if (!active) {
-#pragma omp atomic
-          residual(ldof) -= c.weight * lambda;
-          if (K) {
-            MatX one = MatX::Constant(1, 1, c.weight);
-            K->add(&ldof, 1, one);
-          }
+          release(ldof, lambda, c.weight);
+          release_tangential(c.weight);
           continue;
         }
-        constraint_dofs(c, *in.dofs, in.dim, dofs);
+        constraint_dofs(c, *in.dofs, dim, dofs);
         const int m = static_cast<int>(dofs.size());
+        const bool slips = friction && c.has_slip;
         // Displacement rows: f_c = lambda w grad g.
         add_vector(residual, dofs, c.grad, lambda * c.weight);
         // Multiplier row: F = c w g; R = -F.
 #pragma omp atomic
         residual(ldof) -= c0 * c.weight * c.gap;
         if (K) {
-          k.setZero(m + 1, m + 1);
+          k.setZero(m + 1 + (slips ? dim : 0), m + 1 + (slips ? dim : 0));
           k.topLeftCorner(m, m) = -lambda * c.weight * c.hess;
           k.block(0, m, m, 1) = -c.weight * c.grad;
           k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
           dofs.push_back(ldof);
-          K->add(dofs.data(), m + 1, k);
         }
+        if (slips) add_friction(in, j, c, lambda, lt, tdof, dofs, m, residual, K ? &k : nullptr, out);
+        else release_tangential(c.weight);  // frictionless, or no slip origin yet: no tangential traction
+        if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
       }
     }
+  }
+
+ private:
+  // Coulomb/Tresca friction of a closed node with its traction as multipliers (semi-smooth
+  // Newton; Alart & Curnier 1991, in the projected form of Hueber, Stadler & Wohlmuth 2008):
+  //   E = w (lambda_T - proj_F(q)) = 0,  q = P(n) (lambda_T + c_T d),  F = bound(lambda - c g),
+  // with d the slip of the increment (Constraint::slip). Inside the disc (stick) E = -w c_T P d:
+  // no tangential slip; on the rim (slip) lambda_T has the radius F and the direction of q. Its
+  // normal component is zero in either case (E's n-component is w n . lambda_T). The bodies get
+  // the force -w D^T lambda_T (the penalty's, with the multipliers for the traction).
+  // Tangent: dE/dlambda_T = w (I - A P), dE/dz = -w (A dq/dz + b dF/dz), dE/dlambda = -w b F',
+  // with A, b the return map's derivatives in q and F, dF/dz = -F' c grad g and
+  //   dq/dz = c_T P D - n (v^T dn/dz) - (n . v) dn/dz,  v = lambda_T + c_T d,  dn/dz = the gap
+  //   Hessian's first dim rows (as for the penalty).
+  static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real lambda, const VecX& lt,
+                           const Index* tdof, std::vector<Index>& dofs, int m, VecX& residual, MatX* k,
+                           EnforcementOutput& out) {
+    const int dim = in.dim;
+    const Real w = c.weight, c0 = (*in.stiffness)[j], ct = (*in.tangential_stiffness)[j];
+    const VecX nv = c.normal.head(dim);
+    const MatX& D = c.slip_jacobian;
+    const MatX P = MatX::Identity(dim, dim) - nv * nv.transpose();
+    const VecX v = lt + ct * c.slip.head(dim);
+    const VecX q = P * v;
+    const Real p = lambda - c0 * c.gap;
+    const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
+    Vec3 q3 = Vec3::Zero(), l3 = Vec3::Zero();
+    q3.head(dim) = q;
+    l3.head(dim) = lt;
+    const ReturnMap rm = return_map(q3, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
+    out.traction[j] = l3;
+    out.slip[j] = rm.slip;
+    out.cone_excess[j] = q.norm() - bound;
+    add_vector(residual, dofs, D.transpose() * lt, -w);
+    const VecX e = w * (lt - rm.traction.head(dim));
+    for (int d = 0; d < dim; ++d) {
+#pragma omp atomic
+      residual(tdof[d]) -= e(d);
+    }
+    if (!k) return;
+    const MatX A = rm.d_trial.topLeftCorner(dim, dim);
+    const VecX b = rm.d_bound.head(dim);
+    const MatX dn = c.hess.topRows(dim);
+    const MatX dq = ct * P * D - nv * (v.transpose() * dn) - nv.dot(v) * dn;
+    k->block(0, m + 1, m, dim) = w * D.transpose();
+    k->block(m + 1, 0, dim, m) = -w * A * dq + (w * db * c0) * b * c.grad.transpose();
+    k->block(m + 1, m, dim, 1) = -w * db * b;
+    k->block(m + 1, m + 1, dim, dim) = w * (MatX::Identity(dim, dim) - A * P);
+    for (int d = 0; d < dim; ++d) dofs.push_back(tdof[d]);
   }
 };
 

@@ -1,4 +1,4 @@
-// Enforcement of the frictionless contact constraints (Signorini conditions g >= 0, p >= 0,
+// Enforcement of the contact constraints (Signorini conditions g >= 0, p >= 0,
 // p g = 0), reading only the ConstraintSet. Penalty: p = eps <-g>. Lagrange multipliers with a
 // semi-smooth Newton method: one multiplier (pressure) per slave node and the complementarity
 // function C = lambda - max(0, lambda - c g) = 0 (Alart & Curnier 1991; Hüeber & Wohlmuth 2005),
@@ -6,7 +6,9 @@
 // non-penetration. Augmented Lagrangian: p = <lambda-bar - eps g> with lambda-bar updated
 // between Newton solves (Uzawa) until the penetration is below a tolerance
 // (Simo & Laursen 1992; Wriggers 2006, sec. 6.3). Friction, with penalty: the trial traction
-// t_tr = P(n) (t_old + eps_T d) returned onto the friction law's disc (Wriggers 2006, sec. 5.2).
+// t_tr = P(n) (t_old + eps_T d) returned onto the friction law's disc (Wriggers 2006, sec. 5.2);
+// with Lagrange multipliers the traction is dim more multipliers per node, and the same return
+// map makes the tangential complementarity function (Alart & Curnier 1991).
 // Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
 #pragma once
 #include <memory>
@@ -25,11 +27,13 @@ struct EnforcementInput {
   const DofMap* dofs = nullptr;
   int dim = 2;
   const std::vector<Real>* stiffness = nullptr;  // per constraint: penalty, or the complementarity constant c
-  Index multiplier_offset = -1;             // first multiplier unknown (Lagrange)
+  Index multiplier_offset = -1;             // first multiplier unknown (Lagrange; with friction the
+                                            // dim tangential ones of each constraint follow the normal ones)
   const std::vector<signed char>* forced = nullptr;  // > 0 hold closed, < 0 hold open (chattering guard)
   const std::vector<Real>* shift = nullptr;          // augmented Lagrangian: the multipliers lambda-bar
-  // Friction (penalty): the law, the tangential penalty and the committed tangential traction
-  // of each constraint; constraints with has_slip get the frictional force.
+  // Friction: the law, the tangential penalty (Lagrange: the tangential complementarity
+  // constant) and the committed tangential traction of each constraint (penalty); constraints
+  // with has_slip get the frictional force.
   const FrictionLaw* friction = nullptr;
   const std::vector<Real>* tangential_stiffness = nullptr;
   const std::vector<Vec3>* traction_old = nullptr;
