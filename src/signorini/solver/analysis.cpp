@@ -240,6 +240,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     break;
   }
   residual = fext - fint + fc;
+  Real lift_force = 0;
   for (Index i = 0; i < residual.size(); ++i)
     if (constrained_[i]) {
       reactions_(i) = -residual(i);
@@ -247,10 +248,28 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     } else {
       reactions_(i) = 0;
     }
-  if (tangent) system_.apply_dirichlet(constrained_, system_.mean_abs_diagonal());
+  if (tangent) {
+    // Prescribed values not reached yet (the increment's prescribed motion beyond the
+    // predictor): the Newton step takes them on, linearized, R_f - K_fc (u_c* - u_c), instead
+    // of moving those nodes alone first, which would shear (or invert, at finite strain) the
+    // elements beside them before the rest can follow.
+    const Real diag = system_.mean_abs_diagonal();
+    VecX lift = VecX::Zero(residual.size());
+    lift_pending_ = false;
+    for (const Prescribed& p : prescribed_) {
+      lift(p.dof) = p.start + lambda * (p.end - p.start) - u_(p.dof);
+      lift_pending_ = lift_pending_ || std::abs(lift(p.dof)) > 1e-14 * (std::abs(u_(p.dof)) + std::abs(p.end - p.start));
+    }
+    if (lift_pending_) {
+      const VecX klift = system_.matrix() * lift;
+      for (Index i = 0; i < residual.size(); ++i) residual(i) = constrained_[i] ? diag * lift(i) : residual(i) - klift(i);
+      lift_force = klift.norm();
+    }
+    system_.apply_dirichlet(constrained_, diag);
+  }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
-  return std::max({fint.norm(), fext.norm(), fc.norm()});
+  return std::max({fint.norm(), fext.norm(), fc.norm(), lift_force});
 }
 
 void Analysis::begin_step(int s) {
@@ -364,18 +383,22 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   u_ = u_converged_;
   // Predictor: the free DOFs continue along the last increment of this step, scaled.
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
-  for (auto& p : prescribed_) u_(p.dof) = p.start + lambda * (p.end - p.start);
+  // Prescribed DOFs: where the predictor puts them; the first Newton step takes them the
+  // rest of the way (evaluate). Without a predictor, from the converged state.
   for (auto& b : model_.bodies) b->revert();
   if (!contacts_.empty()) {
     // Detection at the start of the increment, on the predicted configuration; d_max grows
     // with the largest nodal motion of the prediction.
     Real step = 0;
     const int dim = dofs_.dofs_per_node();
+    std::vector<Real> target(num_unknowns(), 0.0);
+    for (const Prescribed& p : prescribed_) target[p.dof] = p.start + lambda * (p.end - p.start);
     for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
       if (dofs_.has_dofs(nd)) {
         Real m2 = 0;
         for (int d = 0; d < dim; ++d) {
-          const Real v = u_(dofs_.dof(nd, d)) - u_converged_(dofs_.dof(nd, d));
+          const Index dof = dofs_.dof(nd, d);
+          const Real v = (constrained_[dof] ? target[dof] : u_(dof)) - u_converged_(dof);
           m2 += v * v;
         }
         step = std::max(step, std::sqrt(m2));
@@ -400,7 +423,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     const Real floor =
         1e-3 * system_.mean_abs_diagonal() * (dofs_.num_dofs() ? u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff() : 0.0);
     auto converged_residual = [&](Real r, Real sc) {
-      return r <= std::max(ns.residual_tolerance * std::max(sc, floor), ns.absolute_tolerance) || sc < 1e-300;
+      return !lift_pending_ &&
+             (r <= std::max(ns.residual_tolerance * std::max(sc, floor), ns.absolute_tolerance) || sc < 1e-300);
     };
     rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
     log::info("    iter {:2d}  |R|/F = {:.3e}", 0, rec.residuals.back());
@@ -491,7 +515,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       if (it == cycle_start) energy0 = energy;
       const bool energy_ok = it > cycle_start && energy <= ns.energy_tolerance * energy0;
       if (converged_residual(rnorm, scale) ||
-          (energy_ok && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
+          (energy_ok && !lift_pending_ && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
         Index released = 0;
         for (auto& c : contacts_) released += c->fix_held_nodes();
         if (released > 0 && released_rounds++ < 3) {

@@ -121,6 +121,7 @@ class Analysis {
   Real last_dl_ = 0;      // its size (0: no predictor available)
   std::vector<char> constrained_;
   std::vector<Prescribed> prescribed_;
+  bool lift_pending_ = false;  // the last evaluate found prescribed DOFs short of their values
   std::vector<Load> previous_loads_;
   const std::vector<Load>* current_loads_ = nullptr;
   std::vector<FacetLoad> facet_loads_cache_;
