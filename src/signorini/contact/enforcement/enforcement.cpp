@@ -22,6 +22,17 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
     }
 }
 
+// Derivative of a trial traction P(n) v, v = v0 + c_T d (v0 fixed), over the constraint's
+// DOFs: c_T P D - n (v^T dn/dz) - (n . v) dn/dz, with dn/dz = d(dg/dx_s)/dz the first dim rows
+// of the gap's Hessian (n = dg/dx_s for every discretization). Shared by the penalty's trial
+// traction and the multipliers' complementarity function.
+MatX trial_derivative(const Constraint& c, int dim, const Vec3& v, Real ct) {
+  const VecX n = c.normal.head(dim);
+  const MatX dn = c.hess.topRows(dim);
+  const MatX P = MatX::Identity(dim, dim) - n * n.transpose();
+  return ct * P * c.slip_jacobian - n * (v.head(dim).transpose() * dn) - n.dot(v.head(dim)) * dn;
+}
+
 class Penalty : public Enforcement {
  public:
   std::string name() const override { return "penalty"; }
@@ -67,9 +78,7 @@ class Penalty : public Enforcement {
  private:
   // Regularized (penalty) Coulomb/Tresca friction on a closed node (Wriggers 2006, sec. 5.2):
   // t_tr = P(n) v with v = t_old + eps_T d, t = return map of t_tr onto |t| <= bound(p), force
-  // on the DOFs f = -w D^T t. Tangent w D^T dt/dz with
-  //   dt_tr/dz = eps_T P D - n (v^T dn/dz) - (n . v) dn/dz,  dn/dz = d(dg/dx_s)/dz = the first
-  //   dim rows of the gap's Hessian (n = dg/dx_s for every discretization),
+  // on the DOFs f = -w D^T t. Tangent w D^T dt/dz with dt_tr/dz from trial_derivative and
   //   dt/dz = d_trial dt_tr/dz + d_bound bound'(p) dp/dz,  dp/dz = -eps grad g.
   static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real eps, Real p,
                            const std::vector<Index>& dofs, VecX& residual, MatX* k, EnforcementOutput& out) {
@@ -86,10 +95,7 @@ class Penalty : public Enforcement {
     const MatX& D = c.slip_jacobian;
     add_vector(residual, dofs, -c.weight * (D.transpose() * rm.traction.head(dim)), 1.0);
     if (!k) return;
-    const MatX dn = c.hess.topRows(dim);
-    MatX P = MatX::Identity(dim, dim) - n.head(dim) * n.head(dim).transpose();
-    MatX dtrial = epst * P * D - n.head(dim) * (v.head(dim).transpose() * dn) - n.dot(v) * dn;
-    MatX dt = rm.d_trial.topLeftCorner(dim, dim) * dtrial;
+    MatX dt = rm.d_trial.topLeftCorner(dim, dim) * trial_derivative(c, dim, v, epst);
     const Real db = in.friction->bound_derivative(p);
     if (db != 0) dt -= (db * eps) * rm.d_bound.head(dim) * c.grad.transpose();
     *k += c.weight * D.transpose() * dt;
@@ -208,9 +214,8 @@ class LagrangeMultipliers final : public Enforcement {
   // normal component is zero in either case (E's n-component is w n . lambda_T). The bodies get
   // the force -w D^T lambda_T (the penalty's, with the multipliers for the traction).
   // Tangent: dE/dlambda_T = w (I - A P), dE/dz = -w (A dq/dz + b dF/dz), dE/dlambda = -w b F',
-  // with A, b the return map's derivatives in q and F, dF/dz = -F' c grad g and
-  //   dq/dz = c_T P D - n (v^T dn/dz) - (n . v) dn/dz,  v = lambda_T + c_T d,  dn/dz = the gap
-  //   Hessian's first dim rows (as for the penalty).
+  // with A, b the return map's derivatives in q and F, dF/dz = -F' c grad g and dq/dz from
+  // trial_derivative with v = lambda_T + c_T d.
   static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real lambda, const VecX& lt,
                            const Index* tdof, std::vector<Index>& dofs, int m, VecX& residual, MatX* k,
                            EnforcementOutput& out) {
@@ -219,14 +224,13 @@ class LagrangeMultipliers final : public Enforcement {
     const VecX nv = c.normal.head(dim);
     const MatX& D = c.slip_jacobian;
     const MatX P = MatX::Identity(dim, dim) - nv * nv.transpose();
-    const VecX v = lt + ct * c.slip.head(dim);
-    const VecX q = P * v;
+    Vec3 l3 = Vec3::Zero();
+    l3.head(dim) = lt;
+    const Vec3 v = l3 + ct * c.slip;
+    const Vec3 q = v - c.normal * c.normal.dot(v);
     const Real p = lambda - c0 * c.gap;
     const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
-    Vec3 q3 = Vec3::Zero(), l3 = Vec3::Zero();
-    q3.head(dim) = q;
-    l3.head(dim) = lt;
-    const ReturnMap rm = return_map(q3, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
+    const ReturnMap rm = return_map(q, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
     out.traction[j] = l3;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = q.norm() - bound;
@@ -239,10 +243,8 @@ class LagrangeMultipliers final : public Enforcement {
     if (!k) return;
     const MatX A = rm.d_trial.topLeftCorner(dim, dim);
     const VecX b = rm.d_bound.head(dim);
-    const MatX dn = c.hess.topRows(dim);
-    const MatX dq = ct * P * D - nv * (v.transpose() * dn) - nv.dot(v) * dn;
     k->block(0, m + 1, m, dim) = w * D.transpose();
-    k->block(m + 1, 0, dim, m) = -w * A * dq + (w * db * c0) * b * c.grad.transpose();
+    k->block(m + 1, 0, dim, m) = -w * A * trial_derivative(c, dim, v, ct) + (w * db * c0) * b * c.grad.transpose();
     k->block(m + 1, m, dim, 1) = -w * db * b;
     k->block(m + 1, m + 1, dim, dim) = w * (MatX::Identity(dim, dim) - A * P);
     for (int d = 0; d < dim; ++d) dofs.push_back(tdof[d]);
