@@ -257,7 +257,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     VecX lift = VecX::Zero(residual.size());
     lift_pending_ = false;
     for (const Prescribed& p : prescribed_) {
-      lift(p.dof) = p.start + lambda * (p.end - p.start) - u_(p.dof);
+      lift(p.dof) = p.value(lambda) - u_(p.dof);
       lift_pending_ = lift_pending_ || std::abs(lift(p.dof)) > 1e-14 * (std::abs(u_(p.dof)) + std::abs(p.end - p.start));
     }
     if (lift_pending_) {
@@ -392,7 +392,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     Real step = 0;
     const int dim = dofs_.dofs_per_node();
     std::vector<Real> target(num_unknowns(), 0.0);
-    for (const Prescribed& p : prescribed_) target[p.dof] = p.start + lambda * (p.end - p.start);
+    for (const Prescribed& p : prescribed_) target[p.dof] = p.value(lambda);
     for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
       if (dofs_.has_dofs(nd)) {
         Real m2 = 0;

@@ -85,6 +85,7 @@ class Analysis {
   struct Prescribed {
     Index dof;
     Real start, end;
+    Real value(Real lambda) const { return start + lambda * (end - start); }  // at step fraction lambda
   };
   // Residual (fext - fint, zero at constrained DOFs) at u for the step fraction lambda;
   // assembles the tangent too if asked. Returns the force scale for the relative test.
