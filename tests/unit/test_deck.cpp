@@ -249,6 +249,12 @@ TEST(Deck, ContactSectionErrors) {
   m = error_of("c_stick", kContact + "checks:\n  - {name: c, quantity: contact_stick_half_width, pair: c1, at: [0, 0], "
                                      "component: x, expected: 1}\n");
   EXPECT_MESSAGE(m, "c_stick.yaml:20", "checks[0].quantity", "needs a contact pair with friction");
+  m = error_of("c_radius2d", kContact + "checks:\n  - {name: a, quantity: contact_half_width, pair: c1, at: [0, 0], "
+                                        "component: r, expected: 1}\n");
+  EXPECT_MESSAGE(m, "c_radius2d.yaml:20", "checks[0].component", "for 3D");
+  m = error_of("c_radius_kind", kContact + "checks:\n  - {name: a, quantity: contact_force, pair: c1, "
+                                           "component: r, expected: 1}\n");
+  EXPECT_MESSAGE(m, "c_radius_kind.yaml:20", "checks[0].component", "contact_half_width and contact_stick_half_width only");
   m = error_of("c_smooth_ntn", kContact + "    discretization: node_to_node\n    smoothing: hermite\n");
   EXPECT_MESSAGE(m, "c_smooth_ntn.yaml:20", "contact[0].smoothing", "node_to_segment only");
   m = error_of("c_smooth_kind", kContact + "    smoothing: bezier\n");

@@ -1,6 +1,7 @@
 // Output files: VTU structure (sizes and offsets consistent), PVD listing, atomic writes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "signorini/core/error.hpp"
 #include "signorini/io/atomic_file.hpp"
+#include "signorini/io/results_writer.hpp"
 #include "signorini/io/vtu_writer.hpp"
 #include "signorini/mesh/structured.hpp"
 
@@ -110,4 +112,27 @@ TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
   EXPECT_NE(text.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
   EXPECT_NE(text.find("Name=\"pressure\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir + "/contact_pair_one.pvd"));
+}
+
+// The radius of a 3D contact or stick zone (check component r): the threshold with the
+// fewest nodes on the wrong side.
+TEST(Checks, SeparatingRadiusIsTheBestThreshold) {
+  // Clean separation: midway between the outermost inside point and the next outside one.
+  EXPECT_DOUBLE_EQ(separating_radius({{0.1, true}, {0.3, true}, {0.2, true}, {0.6, false}, {0.5, false}}), 0.4);
+  // One outside point among the inside ones: two thresholds leave one point on the wrong
+  // side (0.225 and 0.4); their mean.
+  EXPECT_DOUBLE_EQ(separating_radius({{0.1, true}, {0.2, true}, {0.25, false}, {0.3, true}, {0.5, false}, {0.6, false}}),
+                   0.3125);
+  EXPECT_EQ(separating_radius({{0.1, false}, {0.2, false}}), 0.0);
+  EXPECT_DOUBLE_EQ(separating_radius({{0.1, true}, {0.2, true}}), 0.2);  // no outside point: the outermost
+  // Points scattered over a disc, inside below r = 0.7: the radius is found within the
+  // spacing of the points around the rim.
+  std::vector<std::pair<Real, bool>> pts;
+  unsigned seed = 12345;
+  for (int k = 0; k < 2000; ++k) {
+    seed = seed * 1103515245u + 12345u;
+    const Real r = std::sqrt(((seed >> 8) & 0xffff) / 65535.0);
+    pts.push_back({r, r < 0.7});
+  }
+  EXPECT_NEAR(separating_radius(pts), 0.7, 2e-3);
 }

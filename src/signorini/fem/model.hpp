@@ -80,7 +80,8 @@ struct Check {
   std::string set;
   std::string pair;      // contact quantities
   Vec3 point = Vec3::Zero();
-  int component = 0;
+  static constexpr int radial = 3;  // contact half-widths in 3D: a radius in the contact plane
+  int component = 0;                // 0, 1, 2 or radial
   Real expected = 0;
   Real tolerance = 0.01;  // relative
   std::string reference;  // where the expected value comes from

@@ -599,8 +599,15 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
     ch.kind = c.text(spec, "quantity");
     if (c.has("component")) {
       const std::string comp = c.text(spec, "component");
-      ch.component = comp == "x" ? 0 : comp == "y" ? 1 : 2;
-      if (ch.component >= m.settings.spatial_dim()) c.child("component").fail("no such component in 2D");
+      ch.component = comp == "x" ? 0 : comp == "y" ? 1 : comp == "z" ? 2 : Check::radial;
+      if (ch.component == Check::radial) {
+        if (ch.kind != "contact_half_width" && ch.kind != "contact_stick_half_width")
+          c.child("component").fail("'r' (a radius) is for contact_half_width and contact_stick_half_width only");
+        if (m.settings.spatial_dim() != 3)
+          c.child("component").fail("'r' (a radius in the contact plane) is for 3D; in 2D use x or y");
+      } else if (ch.component >= m.settings.spatial_dim()) {
+        c.child("component").fail("no such component in 2D");
+      }
     } else if (ch.kind != "contact_pressure_max") {
       c.fail("a " + ch.kind + " check needs 'component' (x, y or z)");
     }

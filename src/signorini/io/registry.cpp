@@ -310,7 +310,7 @@ void register_deck_sections(Registry& r) {
           opt(text("pair", "contact pair name (contact quantities)", std::nullopt)),
           opt(text("at", "point (displacement)", std::nullopt, ParamKind::vector)),
           opt(text("set", "node set (reaction)", std::nullopt)),
-          opt(choice("component", "component (not for contact_pressure_max)", {"x", "y", "z"}, std::nullopt)),
+          opt(choice("component", "component (not for contact_pressure_max); r: for the contact half-widths in 3D, the radius of the zone around 'at' in the contact plane", {"x", "y", "z", "r"}, std::nullopt)),
           number("expected", "reference value", std::nullopt),
           number("tolerance", "relative tolerance", "0.01", 0, INFINITY, true),
           text("reference", "where the expected value comes from", "\"\"")}});

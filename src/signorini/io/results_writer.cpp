@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <limits>
@@ -34,6 +35,51 @@ std::string json_escape(const std::string& s) {
 std::string json_number(Real v) {
   if (!std::isfinite(v)) return "null";
   return fmt::format("{:.10g}", v);
+}
+
+}  // namespace
+
+Real separating_radius(std::vector<std::pair<Real, bool>> pts) {
+  std::sort(pts.begin(), pts.end());
+  Index wrong = 0;  // threshold below every point: every inside point is on the wrong side
+  for (auto& p : pts) wrong += p.second;
+  if (wrong == 0) return 0;
+  Index best = wrong;
+  Real sum = 0;
+  int count = 0;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    wrong += pts[k].second ? -1 : 1;  // the threshold passes point k
+    if (k + 1 < pts.size() && pts[k + 1].first == pts[k].first) continue;
+    const Real t = k + 1 < pts.size() ? 0.5 * (pts[k].first + pts[k + 1].first) : pts[k].first;
+    if (wrong < best) best = wrong, sum = 0, count = 0;
+    if (wrong == best) sum += t, ++count;
+  }
+  return count ? sum / count : 0;
+}
+
+namespace {
+
+// Radius of a contact zone (closed nodes, or the sticking ones among the closed) around
+// `at` in 3D, in the plane normal to the pressure-weighted mean normal, separating the
+// zone's nodes from the others (separating_radius). On an unstructured surface this uses
+// every node around the rim, where a distance along one axis would hang on the one node
+// nearest that axis.
+template <class Inside>
+Real zone_radius(const ConstraintSet& cs, const EnforcementOutput& st, const std::vector<Vec3>& x, const Vec3& at,
+                 bool stick, Inside inside) {
+  Vec3 n = Vec3::Zero();
+  for (size_t j = 0; j < cs.size(); ++j)
+    if (cs[j].kind != ConstraintKind::none && st.active[j]) n += st.pressure[j] * cs[j].weight * cs[j].normal;
+  if (n.norm() == 0) return 0;
+  n.normalize();
+  std::vector<std::pair<Real, bool>> pts;
+  for (size_t j = 0; j < cs.size(); ++j) {
+    if (stick && !st.active[j]) continue;  // the stick zone is measured among the closed nodes
+    Vec3 d = x[cs[j].slave] - at;
+    d -= n * n.dot(d);
+    pts.push_back({d.norm(), inside(j)});
+  }
+  return separating_radius(std::move(pts));
 }
 
 }  // namespace
@@ -79,6 +125,14 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
         auto inside = [&](size_t j) {
           return stick ? st.active[j] && j < st.slip.size() && !st.slip[j] && cs[j].has_slip : st.active[j] != 0;
         };
+        if (c.component == Check::radial) {
+          r.computed = zone_radius(cs, st, x, c.point, stick, inside);
+          r.error = c.expected != 0 ? std::abs(r.computed - c.expected) / std::abs(c.expected)
+                                    : std::abs(r.computed - c.expected);
+          r.pass = r.error <= c.tolerance;
+          out.push_back(r);
+          continue;
+        }
         auto edge = [&](Real side) {
           Real closed = 0, open = std::numeric_limits<Real>::infinity();
           for (size_t j = 0; j < cs.size(); ++j) {

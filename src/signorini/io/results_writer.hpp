@@ -19,6 +19,12 @@ struct CheckResult {
 
 std::vector<CheckResult> evaluate_checks(const Analysis& analysis);
 
+// The radius that best separates points inside a zone from those outside, given each
+// point's radius and whether it is inside: the threshold with the fewest points on the wrong
+// side (the mean of the midpoints between consecutive radii reaching that minimum); 0 when
+// no point is inside. Used for the radius of a 3D contact or stick zone (component r).
+Real separating_radius(std::vector<std::pair<Real, bool>> points);
+
 class ResultsWriter {
  public:
   ResultsWriter(const Model& model, std::string directory);
