@@ -4,15 +4,58 @@
 #include <gtest/gtest.h>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
+#include "signorini/contact/surface.hpp"
 #include "signorini/fem/shape.hpp"
 
 using namespace signorini;
 
 namespace {
 
+// A 5 x 5 grid of nodes (4 x 4 quads, outward +z) on a curved, slightly jittered surface with
+// its bicubic patches (smoothing: hermite in 3D): the patches of an inner facet (16 nodes),
+// of an edge facet (one side of ghosts) and of a corner facet (two).
+struct CurvedGrid {
+  MasterSurface m;
+  std::vector<Vec3> x;
+  CurvedGrid() {
+    unsigned s = 7;
+    auto rnd = [&]() {
+      s = s * 1664525u + 1013904223u;
+      return 2.0 * (s >> 8) / static_cast<Real>(1u << 24) - 1.0;
+    };
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) {
+        const Real u = 0.5 * (i - 2) + 0.03 * rnd(), v = 0.45 * (j - 2) + 0.03 * rnd();
+        x.push_back(Vec3(u, v, 0.1 * u * u + 0.05 * v * v + 0.03 * u * v + 0.01 * rnd()));
+      }
+    m.node_facets.resize(x.size());
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const Index a = i + 5 * j;
+        m.type.push_back(ElementType::quad4);
+        m.facets.push_back({a, a + 1, a + 6, a + 5});
+        for (Index n : m.facets.back()) m.node_facets[n].push_back(m.size() - 1);
+      }
+    smooth_master_surface(m, x);
+  }
+};
+const CurvedGrid& curved_grid() {
+  static const CurvedGrid g;
+  return g;
+}
+// Facets of the grid: inner (cell 1,1), edge (cell 1,0), corner (cell 0,0).
+FacetBasis grid_patch(int facet) { return curved_grid().m.basis(facet); }
+
 // A distorted, curved facet: reference coordinates mapped into space, with a bump.
 std::vector<Vec3> facet_nodes(const FacetBasis& t, int dim) {
   std::vector<Vec3> x;
+  if (t.patch) {  // a bicubic patch of the curved grid: its nodes
+    const CurvedGrid& g = curved_grid();
+    for (Index f = 0; f < g.m.size(); ++f)
+      if (&g.m.patch[f] == t.patch)
+        for (Index n : g.m.patch_nodes[f]) x.push_back(g.x[n]);
+    return x;
+  }
   unsigned s = 99;
   auto rnd = [&]() {
     s = s * 1664525u + 1013904223u;
@@ -67,6 +110,7 @@ Projected projected(const GeoCase& c) {
 }
 
 std::string basis_name(const FacetBasis& b) {
+  if (b.patch) return "bicubic" + std::to_string(b.num_nodes());
   if (!b.smooth) return element_info(b.type).name;
   return std::string("hermite") + (b.has_prev ? "_prev" : "") + (b.has_next ? "_next" : "");
 }
@@ -184,8 +228,55 @@ INSTANTIATE_TEST_SUITE_P(
                       GeoCase{FacetBasis::hermite(true, true), 2, -0.1},
                       GeoCase{FacetBasis::hermite(false, true), 2, 0.2},
                       GeoCase{FacetBasis::hermite(true, false), 2, -0.1},
-                      GeoCase{FacetBasis::hermite(false, false), 2, 0.2}),
+                      GeoCase{FacetBasis::hermite(false, false), 2, 0.2},
+                      GeoCase{grid_patch(5), 3, 0.2}, GeoCase{grid_patch(5), 3, -0.1},
+                      GeoCase{grid_patch(1), 3, 0.2}, GeoCase{grid_patch(0), 3, -0.1}),
     name_of);
+
+// Bicubic patches (3D smoothing): the grid's nodes enter with the right counts, each patch
+// interpolates its facet's corner nodes, and neighbouring patches share position and normal
+// along their common edge (C1 surface), where the faceted quads' normals jump.
+TEST(ContactGeometry, BicubicPatchesAreC1AcrossEdges) {
+  const CurvedGrid& g = curved_grid();
+  EXPECT_EQ(g.m.patch_nodes[5].size(), 16u);  // inner
+  EXPECT_EQ(g.m.patch_nodes[1].size(), 12u);  // one side of ghosts
+  EXPECT_EQ(g.m.patch_nodes[0].size(), 9u);   // corner: two sides
+  auto point_normal = [&](Index f, const Vec3& xi) {
+    const FacetBasis b = g.m.basis(f);
+    std::vector<Vec3> x;
+    for (Index n : g.m.patch_nodes[f]) x.push_back(g.x[n]);
+    VecX N;
+    MatX dN;
+    b.eval(xi, N, dN);
+    Vec3 p = Vec3::Zero();
+    for (size_t i = 0; i < x.size(); ++i) p += N(i) * x[i];
+    return std::make_pair(p, facet_normal(b, x, xi, 3));
+  };
+  // Corners interpolated.
+  const Vec3 corners[4] = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
+  for (Index f : {0, 1, 5})
+    for (int k = 0; k < 4; ++k) EXPECT_LT((point_normal(f, corners[k]).first - g.x[g.m.facets[f][k]]).norm(), 1e-14);
+  // Shared edges: facet 5 (cell 1,1) with facet 6 (cell 2,1) along xi = +1 / -1, and with
+  // facet 9 (cell 1,2) along eta = +1 / -1; facet 0 with facet 1 (ghost rows on both).
+  Real dp = 0, dn = 0, faceted = 0;
+  for (Real t = -1; t <= 1.0001; t += 0.25) {
+    for (auto [f, xf, g2, xg] : {std::tuple{5, Vec3(1, t, 0), 6, Vec3(-1, t, 0)},
+                                 std::tuple{5, Vec3(t, 1, 0), 9, Vec3(t, -1, 0)},
+                                 std::tuple{0, Vec3(1, t, 0), 1, Vec3(-1, t, 0)}}) {
+      const auto [pa, na] = point_normal(f, xf);
+      const auto [pb, nb] = point_normal(g2, xg);
+      dp = std::max(dp, (pa - pb).norm());
+      dn = std::max(dn, (na - nb).norm());
+      std::vector<Vec3> qa, qb;
+      for (Index n : g.m.facets[f]) qa.push_back(g.x[n]);
+      for (Index n : g.m.facets[g2]) qb.push_back(g.x[n]);
+      faceted = std::max(faceted, (facet_normal(ElementType::quad4, qa, xf, 3) - facet_normal(ElementType::quad4, qb, xg, 3)).norm());
+    }
+  }
+  EXPECT_LT(dp, 1e-13) << "position jump across an edge";
+  EXPECT_LT(dn, 1e-12) << "normal jump across an edge";
+  EXPECT_GT(faceted, 0.05) << "the faceted normals should jump on this curved grid";
+}
 
 TEST(ContactGeometry, PointsBeyondTheFacetAreNotInside) {
   std::vector<Vec3> seg{Vec3(0, 0, 0), Vec3(1, 0, 0)};

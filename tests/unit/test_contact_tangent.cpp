@@ -31,6 +31,7 @@ void bend_lower_block(const Mesh& mesh, const DofMap& dofs, int dim, VecX& z) {
   for (Index n : mesh.node_sets.at("lower_domain")) {
     const Vec3& X = mesh.nodes[n];
     z(dofs.dof(n, dim - 1)) += 0.03 * std::sin(9 * X(0)) * X(dim - 1);
+    if (dim == 3) z(dofs.dof(n, 2)) += 0.02 * std::sin(7 * X(1) + 4 * X(0)) * X(2);  // curved both ways, twisted
   }
 }
 
@@ -99,7 +100,7 @@ TEST_P(ContactTangent, MatchesCentralDifferences) {
   }
   if (std::getenv("SIGNORINI_TEST_VERBOSE"))
     for (size_t j = 0; j < ci.constraints().size(); ++j)
-      std::printf("slave %lld kind %d gap %g active %d\n", (long long)ci.constraints()[j].slave,
+      std::printf("slave %lld nodes %d kind %d gap %g active %d\n", (long long)ci.constraints()[j].slave, (int)ci.constraints()[j].nodes.size(),
                   (int)ci.constraints()[j].kind, ci.constraints()[j].gap, (int)ci.state().active[j]);
   ASSERT_GT(active, 0) << "no closed node: the test would check nothing";
   ASSERT_GT(open, 0) << "no open node";
@@ -123,7 +124,9 @@ INSTANTIATE_TEST_SUITE_P(
                       PairCase{"node_to_segment", "augmented_lagrangian", false, ElementType::quad4},
                       PairCase{"node_to_segment", "augmented_lagrangian", true, ElementType::hex8},
                       PairCase{"node_to_segment", "penalty", false, ElementType::quad4, "hermite"},
-                      PairCase{"node_to_segment", "lagrange", false, ElementType::quad4, "hermite"}),
+                      PairCase{"node_to_segment", "lagrange", false, ElementType::quad4, "hermite"},
+                      PairCase{"node_to_segment", "penalty", true, ElementType::hex8, "hermite"},
+                      PairCase{"node_to_segment", "lagrange", true, ElementType::hex8, "hermite"}),
     name_of);
 
 TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
@@ -365,7 +368,9 @@ INSTANTIATE_TEST_SUITE_P(Methods, FrictionTangent,
                                            FrictionCase{"node_to_node", false, false, "lagrange"},
                                            FrictionCase{"node_to_node", true, false, "lagrange"},
                                            FrictionCase{"node_to_segment", false, true, "lagrange"},
-                                           FrictionCase{"node_to_segment", false, false, "lagrange", "hermite"}),
+                                           FrictionCase{"node_to_segment", false, false, "lagrange", "hermite"},
+                                           FrictionCase{"node_to_segment", true, false, "penalty", "hermite"},
+                                           FrictionCase{"node_to_segment", true, false, "lagrange", "hermite"}),
                          friction_name);
 
 // The stick/slip chattering guard: a closed node whose status flips more than max_flips times

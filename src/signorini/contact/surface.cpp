@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <numbers>
+#include <optional>
+#include <map>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
 #include "signorini/core/error.hpp"
@@ -33,11 +35,13 @@ Vec3 MasterSurface::node_normal(Index node, const std::vector<Vec3>& x, int dim)
 }
 
 FacetBasis MasterSurface::basis(Index f) const {
+  if (!patch.empty()) return FacetBasis::bicubic(&patch[f]);
   if (!smooth()) return FacetBasis(type[f]);
   return FacetBasis::hermite(prev[f] >= 0, next[f] >= 0);
 }
 
 std::vector<Index> MasterSurface::basis_nodes(Index f) const {
+  if (!patch.empty()) return patch_nodes[f];
   if (!smooth()) return facets[f];
   std::vector<Index> v;
   if (prev[f] >= 0) v.push_back(prev[f]);
@@ -47,10 +51,149 @@ std::vector<Index> MasterSurface::basis_nodes(Index f) const {
   return v;
 }
 
+namespace {
+
+// A grid point of a bicubic patch as a linear combination of mesh nodes.
+using Combination = std::map<Index, Real>;
+
+Combination extrapolate(const Combination& a, const Combination& b) {  // 2 a - b
+  Combination c;
+  for (auto [n, w] : a) c[n] += 2 * w;
+  for (auto [n, w] : b) c[n] -= w;
+  return c;
+}
+
+Vec3 quad_normal(const MasterSurface& m, Index f, const std::vector<Vec3>& x) {
+  const auto& q = m.facets[f];
+  return (x[q[2]] - x[q[0]]).cross(x[q[3]] - x[q[1]]).normalized();
+}
+
+// The node of quad g next to `from` other than `not_this` (-1 if g has no such node).
+Index beside(const MasterSurface& m, Index g, Index from, Index not_this) {
+  const auto& q = m.facets[g];
+  for (int k = 0; k < 4; ++k)
+    if (q[k] == from) {
+      const Index a = q[(k + 1) % 4], b = q[(k + 3) % 4];
+      return a != not_this ? a : b;
+    }
+  return -1;
+}
+
+// The one other quad sharing nodes a and b with facet f, within the kink angle of f; -1 if
+// none (or several: not a manifold edge).
+Index across(const MasterSurface& m, Index f, Index a, Index b, const std::vector<Vec3>& x, Real cos_max) {
+  Index found = -1;
+  int count = 0;
+  for (Index g : m.node_facets[a]) {
+    if (g == f) continue;
+    const auto& q = m.facets[g];
+    if (std::find(q.begin(), q.end(), b) == q.end()) continue;
+    ++count;
+    if (m.type[g] == ElementType::quad4 && quad_normal(m, g, x).dot(quad_normal(m, f, x)) >= cos_max) found = g;
+  }
+  return count == 1 ? found : -1;
+}
+
+void bicubic_patches(MasterSurface& m, const std::vector<Vec3>& x, Real cos_max) {
+  m.patch.assign(m.size(), MatX());
+  m.patch_nodes.assign(m.size(), {});
+  for (Index f = 0; f < m.size(); ++f) {
+    const auto& q = m.facets[f];
+    // G[i][j]: i along xi (node 0 -> 1), j along eta (node 0 -> 3); the facet is the cell
+    // [1, 2] x [1, 2].
+    std::optional<Combination> G[4][4];
+    auto node = [](Index n) { return Combination{{n, 1.0}}; };
+    G[1][1] = node(q[0]), G[2][1] = node(q[1]), G[2][2] = node(q[2]), G[1][2] = node(q[3]);
+    // Across each edge: the neighbour's two other nodes, beside the edge's ends.
+    struct Side {
+      int a_i, a_j, b_i, b_j, out_a_i, out_a_j, out_b_i, out_b_j;
+    };
+    const Side sides[4] = {{1, 1, 2, 1, 1, 0, 2, 0},   // eta = -1: edge 0-1
+                           {1, 2, 2, 2, 1, 3, 2, 3},   // eta = +1: edge 3-2
+                           {1, 1, 1, 2, 0, 1, 0, 2},   // xi = -1: edge 0-3
+                           {2, 1, 2, 2, 3, 1, 3, 2}};  // xi = +1: edge 1-2
+    bool has[4] = {false, false, false, false};
+    for (int s = 0; s < 4; ++s) {
+      const Side& sd = sides[s];
+      const Index a = G[sd.a_i][sd.a_j]->begin()->first, b = G[sd.b_i][sd.b_j]->begin()->first;
+      const Index g = across(m, f, a, b, x, cos_max);
+      if (g < 0) continue;
+      const Index oa = beside(m, g, a, b), ob = beside(m, g, b, a);
+      if (oa < 0 || ob < 0) continue;
+      G[sd.out_a_i][sd.out_a_j] = node(oa);
+      G[sd.out_b_i][sd.out_b_j] = node(ob);
+      has[s] = true;
+    }
+    // Corners between two present sides: the diagonal quad's fourth node when the corner node
+    // has exactly the four quads around it, else the parallelogram completion.
+    const int corner[4][6] = {{0, 0, 1, 1, 0, 2},   // (i, j), the facet's node there (i, j), sides
+                              {3, 0, 2, 1, 0, 3},
+                              {0, 3, 1, 2, 1, 2},
+                              {3, 3, 2, 2, 1, 3}};
+    for (const auto& c : corner) {
+      const int ci = c[0], cj = c[1], ni = c[2], nj = c[3];
+      if (!has[c[4]] || !has[c[5]]) continue;
+      const Index centre = G[ni][nj]->begin()->first;
+      const Index u = G[ci][nj]->begin()->first, v = G[ni][cj]->begin()->first;  // along xi, along eta
+      Index diag = -1;
+      if (m.node_facets[centre].size() == 4)
+        for (Index g : m.node_facets[centre]) {
+          const auto& gq = m.facets[g];
+          if (g == f || std::find(gq.begin(), gq.end(), u) == gq.end() || std::find(gq.begin(), gq.end(), v) == gq.end())
+            continue;
+          if (quad_normal(m, g, x).dot(quad_normal(m, f, x)) < cos_max) continue;
+          for (Index n : gq)
+            if (n != centre && n != u && n != v) diag = n;
+        }
+      if (diag >= 0) {
+        G[ci][cj] = node(diag);
+      } else {
+        Combination p = *G[ci][nj];
+        for (auto [n, w] : *G[ni][cj]) p[n] += w;
+        p[centre] -= 1;
+        G[ci][cj] = p;
+      }
+    }
+    // Ghosts beyond missing sides: first along eta in the facet's columns, then along xi in
+    // every row (which fills the remaining corners from points that now exist).
+    for (int i = 1; i <= 2; ++i) {
+      if (!G[i][0]) G[i][0] = extrapolate(*G[i][1], *G[i][2]);
+      if (!G[i][3]) G[i][3] = extrapolate(*G[i][2], *G[i][1]);
+    }
+    for (int j = 0; j < 4; ++j) {
+      if (!G[0][j]) G[0][j] = has[2] ? extrapolate(*G[0][j == 0 ? 1 : 2], *G[0][j == 0 ? 2 : 1])
+                                     : extrapolate(*G[1][j], *G[2][j]);
+      if (!G[3][j]) G[3][j] = has[3] ? extrapolate(*G[3][j == 0 ? 1 : 2], *G[3][j == 0 ? 2 : 1])
+                                     : extrapolate(*G[2][j], *G[1][j]);
+    }
+    std::vector<Index>& nodes = m.patch_nodes[f];
+    std::map<Index, int> col;
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i)
+        for (auto [n, w] : *G[i][j])
+          if (w != 0 && !col.count(n)) col[n] = static_cast<int>(nodes.size()), nodes.push_back(n);
+    MatX& P = m.patch[f];
+    P.setZero(16, static_cast<Index>(nodes.size()));
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i)
+        for (auto [n, w] : *G[i][j])
+          if (w != 0) P(i + 4 * j, col[n]) += w;
+  }
+}
+
+}  // namespace
+
 void smooth_master_surface(MasterSurface& m, const std::vector<Vec3>& x) {
+  bool quads = m.size() > 0;
+  for (ElementType t : m.type) quads = quads && t == ElementType::quad4;
+  if (quads) {
+    bicubic_patches(m, x, std::cos(kSmoothingMaxKink * std::numbers::pi / 180));
+    return;
+  }
   for (ElementType t : m.type)
     if (t != ElementType::line2)
-      throw Error("smoothing: hermite needs a 2D master surface of line2 facets (found " + element_info(t).name + ")");
+      throw Error("smoothing: hermite needs a master surface of line2 facets (2D) or quad4 facets (3D) (found " +
+                  element_info(t).name + ")");
   const Real cos_max = std::cos(kSmoothingMaxKink * std::numbers::pi / 180);
   m.prev.assign(m.size(), -1);
   m.next.assign(m.size(), -1);

@@ -25,7 +25,11 @@ struct MasterSurface {
   // Hermite smoothing (2D): per facet, the node before its first node and the node after its
   // second (-1: none, at an end of the surface or a corner kept sharp). Empty: faceted.
   std::vector<Index> prev, next;
-  bool smooth() const { return !prev.empty(); }
+  // Bicubic smoothing (3D, quad4): per facet, the nodes its patch depends on and the 16 x
+  // nodes matrix of the grid points (FacetBasis::bicubic). Empty: faceted.
+  std::vector<std::vector<Index>> patch_nodes;
+  std::vector<MatX> patch;
+  bool smooth() const { return !prev.empty() || !patch.empty(); }
   // The parameterisation of facet f and the nodes it depends on, in the basis's order.
   FacetBasis basis(Index f) const;
   std::vector<Index> basis_nodes(Index f) const;
@@ -35,8 +39,9 @@ struct MasterSurface {
 // stay sharp under smoothing.
 constexpr Real kSmoothingMaxKink = 45;
 
-// Turns on Hermite smoothing of a 2D master surface of line2 facets (`x`: reference
-// positions). Throws Error for other facet types.
+// Turns on Hermite smoothing of a master surface (`x`: reference positions): the C1 curve
+// of FacetBasis::hermite on a 2D surface of line2 facets, the bicubic patches of
+// FacetBasis::bicubic on a 3D surface of quad4 facets. Throws Error for other facet types.
 void smooth_master_surface(MasterSurface& m, const std::vector<Vec3>& x);
 
 struct SlaveSurface {

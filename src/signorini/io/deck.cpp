@@ -516,13 +516,14 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
     if (cs.smoothing != "none") {
       Node sm = c.child("smoothing");
       if (cs.discretization != "node_to_segment") sm.fail("smoothing applies to node_to_segment only");
-      if (m.settings.spatial_dim() != 2)
-        sm.fail("smoothing: hermite smooths 2D master curves; 3D master surfaces are faceted in this version");
+      const bool three = m.settings.spatial_dim() == 3;
+      const ElementType need = three ? ElementType::quad4 : ElementType::line2;
       for (const std::string& set : cs.passes == 2 ? std::vector<std::string>{cs.master, cs.slave}
                                                    : std::vector<std::string>{cs.master})
         for (const ElementBlock& b : m.mesh.facet_sets.at(set))
-          if (b.type != ElementType::line2)
-            sm.fail("smoothing: hermite needs line2 master facets; '" + set + "' has " + element_info(b.type).name);
+          if (b.type != need)
+            sm.fail(std::string("smoothing: hermite needs ") + (three ? "quad4 master facets in 3D (bicubic patches)" : "line2 master facets") +
+                    "; '" + set + "' has " + element_info(b.type).name);
     }
     if (c.has("enforcement")) {
       Node e = c.child("enforcement");

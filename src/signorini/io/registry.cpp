@@ -231,8 +231,9 @@ void register_deck_sections(Registry& r) {
           choice("discretization", "node_to_segment (with node-to-vertex), or node_to_node (matching meshes)",
                  {"node_to_segment", "node_to_node"}, "node_to_segment"),
           number("passes", "2: each surface is also slave of the other (node_to_segment)", "1", 1, 2),
-          choice("smoothing", "node_to_segment in 2D: hermite = a C1 cubic master curve through the nodes (normal "
-                              "continuous across nodes; kinks over 45 degrees stay sharp), none = faceted",
+          choice("smoothing", "node_to_segment: hermite = in 2D a C1 cubic master curve through the nodes, in 3D "
+                              "bicubic patches on quad4 master facets (normal continuous across nodes and edges; "
+                              "kinks over 45 degrees stay sharp), none = faceted",
                  {"none", "hermite"}, "none"),
           opt(text("enforcement", "{method, penalty} (see 'describe enforcement')", std::nullopt, ParamKind::any)),
           opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),

@@ -17,6 +17,7 @@ namespace {
 constexpr Real kShapeStep = 0.25;
 
 void second_derivatives(const FacetBasis& t, const Vec3& xi, int params, std::vector<Mat2>& d2) {
+  if (t.patch) return t.eval_second(xi, d2);
   const int nn = t.num_nodes();
   d2.assign(nn, Mat2::Zero());
   const Real h = kShapeStep;
@@ -37,6 +38,7 @@ void second_derivatives(const FacetBasis& t, const Vec3& xi, int params, std::ve
 // Third derivatives d3[i][c](a, b) = N_i,abc: central differences of the second derivatives,
 // exact for the same reason (N_i,ab has degree <= 2 in each parameter).
 void third_derivatives(const FacetBasis& t, const Vec3& xi, int params, std::vector<std::array<Mat2, 2>>& d3) {
+  if (t.patch) return t.eval_third(xi, d3);
   const int nn = t.num_nodes();
   d3.assign(nn, {Mat2::Zero(), Mat2::Zero()});
   std::vector<Mat2> dp, dm;
@@ -83,12 +85,67 @@ void evaluate(const FacetBasis& t, const std::vector<Vec3>& x, int params, Facet
 }  // namespace
 
 int FacetBasis::num_nodes() const {
+  if (patch) return static_cast<int>(patch->cols());
   return smooth ? 2 + has_prev + has_next : element_info(type).num_nodes;
+}
+
+namespace {
+
+// Catmull-Rom weights of the points p_-1, p_0, p_1, p_2 of a curve at t in [0, 1] (the curve
+// of FacetBasis::hermite without ghosts) and their k-th derivatives in t, k = 0..3.
+std::array<Real, 4> catmull_rom(Real t, int k) {
+  const Real t2 = t * t, t3 = t2 * t;
+  Real h00, h10, h01, h11;
+  switch (k) {
+    case 0: h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2; break;
+    case 1: h00 = 6 * t2 - 6 * t, h10 = 3 * t2 - 4 * t + 1, h01 = -6 * t2 + 6 * t, h11 = 3 * t2 - 2 * t; break;
+    case 2: h00 = 12 * t - 6, h10 = 6 * t - 4, h01 = -12 * t + 6, h11 = 6 * t - 2; break;
+    default: h00 = 12, h10 = 6, h01 = -12, h11 = 6; break;
+  }
+  return {-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11};
+}
+
+// Weights of the patch's nodes for the derivative of order (kx, ky) in (xi, eta):
+// the grid weights w_i^(kx)(s) w_j^(ky)(t) (1/2 per derivative: d/dxi = d/ds / 2) mapped to
+// the nodes through the patch's combinations.
+VecX patch_weights(const MatX& patch, const Vec3& xi, int kx, int ky) {
+  const auto wx = catmull_rom(0.5 * (xi(0) + 1), kx), wy = catmull_rom(0.5 * (xi(1) + 1), ky);
+  const Real scale = std::pow(0.5, kx + ky);
+  Eigen::Matrix<Real, 16, 1> g;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) g(i + 4 * j) = scale * wx[i] * wy[j];
+  return patch.transpose() * g;
+}
+
+}  // namespace
+
+void FacetBasis::eval_second(const Vec3& xi, std::vector<Mat2>& d2) const {
+  const VecX w20 = patch_weights(*patch, xi, 2, 0), w11 = patch_weights(*patch, xi, 1, 1),
+             w02 = patch_weights(*patch, xi, 0, 2);
+  d2.assign(num_nodes(), Mat2::Zero());
+  for (int i = 0; i < num_nodes(); ++i) d2[i] << w20(i), w11(i), w11(i), w02(i);
+}
+
+void FacetBasis::eval_third(const Vec3& xi, std::vector<std::array<Mat2, 2>>& d3) const {
+  const VecX w30 = patch_weights(*patch, xi, 3, 0), w21 = patch_weights(*patch, xi, 2, 1),
+             w12 = patch_weights(*patch, xi, 1, 2), w03 = patch_weights(*patch, xi, 0, 3);
+  d3.assign(num_nodes(), {Mat2::Zero(), Mat2::Zero()});
+  for (int i = 0; i < num_nodes(); ++i) {
+    d3[i][0] << w30(i), w21(i), w21(i), w12(i);  // N_,ab0
+    d3[i][1] << w21(i), w12(i), w12(i), w03(i);  // N_,ab1
+  }
 }
 
 bool FacetBasis::simplex() const { return element_info(type).family == ShapeFamily::simplex; }
 
 void FacetBasis::eval(const Vec3& xi, VecX& N, MatX& dN) const {
+  if (patch) {
+    N = patch_weights(*patch, xi, 0, 0);
+    dN.resize(N.size(), 2);
+    dN.col(0) = patch_weights(*patch, xi, 1, 0);
+    dN.col(1) = patch_weights(*patch, xi, 0, 1);
+    return;
+  }
   if (!smooth) {
     shape_functions(type, xi, N, dN);
     return;

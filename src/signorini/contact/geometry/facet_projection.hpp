@@ -5,6 +5,7 @@
 // Sign convention: g > 0 open, g < 0 penetration; the normal is the master's outward one.
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "signorini/core/types.hpp"
@@ -26,10 +27,24 @@ using Mat2 = Eigen::Matrix<Real, 2, 2>;
 // in for it, which makes the end tangent the segment's chord. Nodes: [prev], a, b, [next].
 // The positions enter linearly, so the gap variations hold unchanged (Wriggers 2006,
 // sec. 9.4 discusses Hermite and Bezier smoothing of 2D master surfaces).
+//
+// 3D (quad4 facets, `patch`): the tensor product of the same curves, a bicubic patch over the
+// 4 x 4 grid of nodes around the facet (the facet is the grid's central cell),
+//   x(xi, eta) = sum_ij w_i(s) w_j(t) X_ij,  s = (xi + 1)/2, t = (eta + 1)/2,
+// with w the Catmull-Rom weights of the curve above. On a regular grid (four facets at every
+// node) neighbouring patches share their edge curves and the cross-boundary tangents, so the
+// surface is C1 and its normal continuous. Grid points that are not mesh nodes (the edge of
+// the surface, a kink kept sharp, a node with other than four facets) are linear
+// combinations of nodes (a ghost 2 X_1j - X_2j beyond an edge, a parallelogram completion
+// X_01 + X_10 - X_11 at a corner); `patch` holds those combinations, one row per grid point
+// (i + 4 j) and one column per node the patch depends on, so the positions still enter
+// linearly. (Bicubic spline patches for contact: Wriggers 2006, sec. 9.4; Puso & Laursen
+// 2002 smooth 3D masters with similar patches.)
 struct FacetBasis {
   ElementType type = ElementType::line2;  // reference domain; the shape functions unless smooth
   bool smooth = false;
   bool has_prev = false, has_next = false;  // smooth: neighbour nodes present
+  const MatX* patch = nullptr;            // 3D smooth: 16 x nodes, grid points from nodes
   FacetBasis() = default;
   FacetBasis(ElementType t) : type(t) {}  // NOLINT: a mesh facet is its own basis
   static FacetBasis hermite(bool prev, bool next) {
@@ -39,10 +54,21 @@ struct FacetBasis {
     b.has_next = next;
     return b;
   }
+  static FacetBasis bicubic(const MatX* grid) {
+    FacetBasis b(ElementType::quad4);
+    b.smooth = true;
+    b.patch = grid;
+    return b;
+  }
   int num_nodes() const;
   bool simplex() const;
   // N (num_nodes) and dN (num_nodes x parameters) at xi.
   void eval(const Vec3& xi, VecX& N, MatX& dN) const;
+  // Bicubic patch only: the exact second derivatives d2[i](a, b) = N_i,ab and third
+  // derivatives d3[i][c](a, b) = N_i,abc (the mesh facets and the Hermite curve get theirs
+  // from exact central differences of eval).
+  void eval_second(const Vec3& xi, std::vector<Mat2>& d2) const;
+  void eval_third(const Vec3& xi, std::vector<std::array<Mat2, 2>>& d3) const;
 };
 
 struct FacetProjection {
