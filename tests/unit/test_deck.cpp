@@ -275,6 +275,21 @@ TEST(Deck, ContactSectionErrors) {
   EXPECT_MESSAGE(m, "c_check.yaml:20", "checks[0].pair", "no contact pair named 'c2'");
 }
 
+// Smoothing in 3D needs quad4 master facets (bicubic patches); a tetrahedral mesh's
+// triangles get an error naming the set and its facet type.
+TEST(Deck, SmoothingIn3DNeedsQuadrilaterals) {
+  const std::string deck = std::string("title: t\nanalysis: {dimension: 3d}\nmesh: {file: ") + SIGNORINI_SOURCE_DIR +
+                           "/examples/hertz_sphere_3d/hertz_sphere_3d.geo, parameters: {hc: 0.2, hf: 0.5}}\n"
+                           "materials:\n  mat: {model: linear_elastic, E: 1, nu: 0.25}\n"
+                           "bodies:\n  - {name: sphere, region: Sphere, material: mat}\n"
+                           "  - {name: block, region: Block, material: mat}\n"
+                           "contact:\n  - name: c\n    master: BlockTop\n    slave: SphereSurface\n"
+                           "    smoothing: hermite\n"
+                           "steps:\n  - name: s\n    boundary:\n      - {set: BlockBottom, u: [0, 0, 0]}\n";
+  const std::string m = error_of("smooth_tri3", deck);
+  EXPECT_MESSAGE(m, "smooth_tri3.yaml:13", "contact[0].smoothing", "quad4 master facets in 3D", "'BlockTop' has tri3");
+}
+
 TEST(Deck, ContactMasterAutoAndRuleWarning) {
   Registry r = default_registry();
   // master: auto with equal meshes: the softer body's surface becomes slave (one body here).
