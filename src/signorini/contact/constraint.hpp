@@ -31,6 +31,8 @@ struct Constraint {
   bool has_slip = false;
   Vec3 slip = Vec3::Zero();
   MatX slip_jacobian;
+  // The tangential part of d: the slip of the increment (a sticking node's elastic slip).
+  Vec3 tangential_slip() const { return slip - normal * normal.dot(slip); }
 };
 
 using ConstraintSet = std::vector<Constraint>;

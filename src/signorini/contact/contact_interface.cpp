@@ -413,7 +413,7 @@ bool ContactInterface::uzawa_update(Real& max_penetration) {
     for (size_t j = 0; j < constraints_.size(); ++j) {
       const Constraint& c = constraints_[j];
       if (c.kind == ConstraintKind::none || !state_.active[j] || !c.has_slip || state_.slip[j]) continue;
-      const Real elastic = (c.slip - c.normal * c.normal.dot(c.slip)).norm();
+      const Real elastic = c.tangential_slip().norm();
       ok = ok && elastic <= (s_.gap_tolerance > 0 ? s_.gap_tolerance : 1e-3 * node_size_[j]);
     }
   if (ok) return true;
@@ -469,7 +469,7 @@ ContactStats ContactInterface::commit() {
       const Constraint& c = constraints_[j];
       const bool closed = state_.active[j] && c.has_slip;
       traction_old_[j] = traction_committed_[j] = closed ? state_.traction[j] : Vec3::Zero();
-      slip_increment_[j] = closed ? (c.slip - c.normal * c.normal.dot(c.slip)).norm() : 0.0;
+      slip_increment_[j] = closed ? c.tangential_slip().norm() : 0.0;
       slip_accumulated_[j] += slip_increment_[j];
       if (closed) (state_.slip[j] ? st.slipping : st.sticking)++;
       // Stick <-> slip changes count as status changes too.

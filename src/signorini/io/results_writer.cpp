@@ -137,11 +137,11 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
           }
           return std::isfinite(open) ? 0.5 * (closed + open) : closed;
         };
-        // A half model (symmetry at `at`) has the zone on one side only: a node on the axis
-        // gives the other side an edge near 0.
         if (c.component == Check::radial) {
           r.computed = zone_radius(cs, st, x, c.point, stick, inside);
         } else {
+          // A half model (symmetry at `at`) has the zone on one side only: a node on the axis
+          // gives the other side an edge near 0.
           const Real ep = edge(1), em = edge(-1);
           r.computed = std::min(ep, em) > 0.5 * std::max(ep, em) ? 0.5 * (ep + em) : std::max(ep, em);
         }
