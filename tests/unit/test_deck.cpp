@@ -255,6 +255,8 @@ TEST(Deck, ContactSectionErrors) {
   m = error_of("c_radius_kind", kContact + "checks:\n  - {name: a, quantity: contact_force, pair: c1, "
                                            "component: r, expected: 1}\n");
   EXPECT_MESSAGE(m, "c_radius_kind.yaml:20", "checks[0].component", "contact_half_width and contact_stick_half_width only");
+  m = error_of("c_pressure_at", kContact + "checks:\n  - {name: p, quantity: contact_pressure, pair: c1, expected: 1}\n");
+  EXPECT_MESSAGE(m, "c_pressure_at.yaml:20", "contact_pressure check needs 'at");
   m = error_of("c_smooth_ntn", kContact + "    discretization: node_to_node\n    smoothing: hermite\n");
   EXPECT_MESSAGE(m, "c_smooth_ntn.yaml:20", "contact[0].smoothing", "node_to_segment only");
   m = error_of("c_smooth_kind", kContact + "    smoothing: bezier\n");

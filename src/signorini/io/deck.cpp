@@ -609,13 +609,14 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
       } else if (ch.component >= m.settings.spatial_dim()) {
         c.child("component").fail("no such component in 2D");
       }
-    } else if (ch.kind != "contact_pressure_max") {
+    } else if (ch.kind != "contact_pressure_max" && ch.kind != "contact_pressure") {
       c.fail("a " + ch.kind + " check needs 'component' (x, y or z)");
     }
     ch.expected = c.number(spec, "expected");
     ch.tolerance = c.number(spec, "tolerance");
     ch.reference = c.text(spec, "reference");
-    if (ch.kind == "displacement" || ch.kind == "contact_half_width" || ch.kind == "contact_stick_half_width") {
+    if (ch.kind == "displacement" || ch.kind == "contact_pressure" || ch.kind == "contact_half_width" ||
+        ch.kind == "contact_stick_half_width") {
       if (!c.has("at")) c.fail("a " + ch.kind + " check needs 'at: [x, y(, z)]'");
       ch.point = c.child("at").vector(m.settings.spatial_dim());
     }

@@ -300,18 +300,19 @@ void register_deck_sections(Registry& r) {
          {text("name", "what is checked", std::nullopt),
           choice("quantity",
                  "displacement (node nearest 'at'), reaction (sum over a node set), contact_pressure_max, "
+                 "contact_pressure (at the slave node nearest 'at', reference coordinates), "
                  "contact_half_width (distance from 'at' along 'component' to the edge of the closed zone: midway "
                  "between the outermost closed slave node and the next open one; the mean of both sides if the zone "
                  "spans both) or contact_force (total, on the "
                  "slave side) of the contact pair 'pair', or contact_stick_half_width (friction: as contact_half_width "
                  "for the stick zone, between the outermost sticking node and the next slipping one)",
-                 {"displacement", "reaction", "contact_pressure_max", "contact_half_width", "contact_force",
+                 {"displacement", "reaction", "contact_pressure_max", "contact_pressure", "contact_half_width", "contact_force",
                   "contact_stick_half_width"},
                  std::nullopt),
           opt(text("pair", "contact pair name (contact quantities)", std::nullopt)),
-          opt(text("at", "point (displacement)", std::nullopt, ParamKind::vector)),
+          opt(text("at", "point (displacement, contact_pressure, half-widths)", std::nullopt, ParamKind::vector)),
           opt(text("set", "node set (reaction)", std::nullopt)),
-          opt(choice("component", "component (not for contact_pressure_max); r: for the contact half-widths in 3D, the radius of the zone around 'at' in the contact plane", {"x", "y", "z", "r"}, std::nullopt)),
+          opt(choice("component", "component (not for contact_pressure_max, contact_pressure); r: for the contact half-widths in 3D, the radius of the zone around 'at' in the contact plane", {"x", "y", "z", "r"}, std::nullopt)),
           number("expected", "reference value", std::nullopt),
           number("tolerance", "relative tolerance", "0.01", 0, INFINITY, true),
           text("reference", "where the expected value comes from", "\"\"")}});

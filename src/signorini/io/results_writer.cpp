@@ -109,6 +109,12 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
       const std::vector<Vec3> x = a.positions(a.displacement());
       if (c.kind == "contact_pressure_max") {
         for (size_t j = 0; j < cs.size(); ++j) r.computed = std::max(r.computed, st.pressure[j]);
+      } else if (c.kind == "contact_pressure") {
+        Real bd = std::numeric_limits<Real>::max();
+        for (size_t j = 0; j < cs.size(); ++j) {
+          const Real d = (m.mesh.nodes[cs[j].slave] - c.point).norm();
+          if (d < bd) bd = d, r.computed = st.pressure[j];
+        }
       } else if (c.kind == "contact_force") {
         for (size_t j = 0; j < cs.size(); ++j) {
           if (cs[j].kind == ConstraintKind::none) continue;
