@@ -268,7 +268,7 @@ void ContactInterface::add_slip_kinematics(const std::vector<Vec3>& x, const Vec
 }
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
-                                GlobalMatrix* K) {
+                                GlobalMatrix* K, const std::vector<char>* fixed) {
   build_constraints(x, z);
   if (frictional()) add_slip_kinematics(x, z);
   EnforcementInput in;
@@ -284,6 +284,7 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
     in.tangential_stiffness = &tangential_stiffness_;
     in.traction_old = &traction_old_;
     in.friction_hold = &friction_hold_;
+    in.fixed = fixed;
   }
   enforcement_->assemble(in, z, residual, K, state_);
 }

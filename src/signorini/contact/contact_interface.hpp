@@ -66,7 +66,9 @@ class ContactInterface {
   // of its slip in this increment).
   void begin_increment(const std::vector<Vec3>& x, const VecX& z);
   // Builds the constraints at x and adds the contact forces (and tangent) to the system.
-  void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K);
+  // fixed: per unknown, 1 if a Dirichlet condition prescribes it (may be null).
+  void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K,
+                const std::vector<char>* fixed = nullptr);
   bool augmented() const { return s_.method == "augmented_lagrangian"; }
   // Largest accepted penetration of the augmented Lagrangian (the smallest over the nodes).
   Real gap_tolerance() const;

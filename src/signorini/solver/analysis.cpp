@@ -225,7 +225,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       const std::vector<Vec3> x = positions(u_);
       for (auto& c : contacts_) {
         if (c->update_each_iteration()) c->detect(x, 0);
-        c->assemble(x, u_, dofs_, fc, tangent ? &system_ : nullptr);
+        c->assemble(x, u_, dofs_, fc, tangent ? &system_ : nullptr, &constrained_);
       }
       contact_time += tc.seconds();
     }

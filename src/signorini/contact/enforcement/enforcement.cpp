@@ -1,5 +1,7 @@
 #include "signorini/contact/enforcement/enforcement.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include "signorini/core/error.hpp"
 
 namespace signorini {
@@ -12,6 +14,43 @@ void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vect
   for (Index n : c.nodes)
     for (int d = 0; d < dim; ++d) out.push_back(dofs.dof(n, d));
   out.insert(out.end(), c.extra_dofs.begin(), c.extra_dofs.end());
+}
+
+// Tangential directions in which the free DOFs (nearly) cannot slip, e.g. a slave node on a
+// symmetry plane over a master node on it, the plane's normal in the contact's tangent plane:
+// the slip there is prescribed, the traction goes into the reactions, and the complementarity
+// row of that component is empty or, with the master facet tilted by a few degrees, only
+// sin(tilt) times the normal relative displacement, which the normal constraint already fixes
+// (redundant constraints: the status flips on round-off). Those components of lambda_T are
+// released (w lambda_T . e = 0): a direction e is released when the free DOFs move the slip
+// along it by less than 0.1 of what all the constraint's DOFs do (within about 6 degrees of
+// being prescribed). Returns the projector on the released directions, held constant in the
+// Jacobian: exact in 2D, where a released row is w lambda_T whatever the normal; in 3D the
+// rotation of a released direction with the normal is left out.
+MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c, const std::vector<Index>& dofs,
+                                int m, const MatX& P) {
+  const int dim = in.dim;
+  if (!in.fixed) return MatX::Zero(dim, dim);
+  const MatX& D = c.slip_jacobian;
+  MatX Df = D;
+  bool any_fixed = false;
+  for (int col = 0; col < m && col < Df.cols(); ++col)
+    if (dofs[col] >= 0 && (*in.fixed)[dofs[col]]) Df.col(col).setZero(), any_fixed = true;
+  if (!any_fixed) return MatX::Zero(dim, dim);
+  // Generalized eigenproblem of the tangential Gram matrices (free against all), the normal
+  // added to both so that only tangential directions can be released.
+  const VecX nv = c.normal.head(dim);
+  const MatX N = nv * nv.transpose();
+  const MatX all = P * D * D.transpose() * P + N;
+  const MatX free = P * Df * Df.transpose() * P + N;
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatX> es(free, all);
+  MatX Q = MatX::Zero(dim, dim);
+  for (int i = 0; i < dim; ++i)
+    if (es.eigenvalues()(i) < 1e-2) {
+      VecX e = P * es.eigenvectors().col(i);
+      if (e.norm() > 0) e.normalize(), Q += e * e.transpose();
+    }
+  return Q;
 }
 
 void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real scale) {
@@ -231,11 +270,13 @@ class LagrangeMultipliers final : public Enforcement {
     const Real p = lambda - c0 * c.gap;
     const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
     const ReturnMap rm = return_map(q, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
+    const MatX Q = prescribed_slip_directions(in, c, dofs, m, P);
     out.traction[j] = l3;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = q.norm() - bound;
     add_vector(residual, dofs, D.transpose() * lt, -w);
-    const VecX e = w * (lt - rm.traction.head(dim));
+    const MatX keep = MatX::Identity(dim, dim) - Q;
+    const VecX e = keep * (w * (lt - rm.traction.head(dim))) + Q * (w * lt);
     for (int d = 0; d < dim; ++d) {
 #pragma omp atomic
       residual(tdof[d]) -= e(d);
@@ -244,9 +285,9 @@ class LagrangeMultipliers final : public Enforcement {
     const MatX A = rm.d_trial.topLeftCorner(dim, dim);
     const VecX b = rm.d_bound.head(dim);
     k->block(0, m + 1, m, dim) = w * D.transpose();
-    k->block(m + 1, 0, dim, m) = -w * A * trial_derivative(c, dim, v, ct) + (w * db * c0) * b * c.grad.transpose();
-    k->block(m + 1, m, dim, 1) = -w * db * b;
-    k->block(m + 1, m + 1, dim, dim) = w * (MatX::Identity(dim, dim) - A * P);
+    k->block(m + 1, 0, dim, m) = keep * (-w * A * trial_derivative(c, dim, v, ct) + (w * db * c0) * b * c.grad.transpose());
+    k->block(m + 1, m, dim, 1) = keep * (-w * db * b);
+    k->block(m + 1, m + 1, dim, dim) = keep * (w * (MatX::Identity(dim, dim) - A * P)) + w * Q;
     for (int d = 0; d < dim; ++d) dofs.push_back(tdof[d]);
   }
 };

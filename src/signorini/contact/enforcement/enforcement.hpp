@@ -38,6 +38,7 @@ struct EnforcementInput {
   const std::vector<Real>* tangential_stiffness = nullptr;
   const std::vector<Vec3>* traction_old = nullptr;
   const std::vector<signed char>* friction_hold = nullptr;  // per constraint: 0, 1 hold stick, 2 hold slip
+  const std::vector<char>* fixed = nullptr;  // per unknown: 1 if a Dirichlet condition prescribes it
 };
 
 struct EnforcementOutput {
