@@ -66,6 +66,11 @@ struct NewtonSettings {
   Real cutback_factor = 0.5;
   Real growth_factor = 1.5;
   int easy_iterations = 5;            // grow the increment after convergence in <= this
+  // Stabilization factor alpha (0: off): every free displacement DOF i gets the force
+  // alpha (D / dl) (u_i - u_i,p), u_p the increment's predicted state, D the mean diagonal of
+  // the first stiffness matrix, dl the increment as a fraction of its step; it grows as the
+  // increment is cut back (analysis.cpp).
+  Real stabilization = 0;
 };
 
 struct OutputSettings {

@@ -586,6 +586,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
   ns.cutback_factor = n.number(spec, "cutback_factor");
   ns.growth_factor = n.number(spec, "growth_factor");
   ns.easy_iterations = static_cast<int>(n.number(spec, "easy_iterations"));
+  ns.stabilization = n.number(spec, "stabilization");
 }
 
 void read_checks(const Node& n, const Registry& r, Model& m) {

@@ -291,7 +291,12 @@ void register_deck_sections(Registry& r) {
           number("cutback_factor", "increment factor after a failed increment", "0.5", 0, 1, true, true),
           number("growth_factor", "increment factor after an easy increment", "1.5", 1, 10),
           number("easy_iterations", "an increment that converges in at most this many iterations is easy", "5", 0,
-                 1000)}});
+                 1000),
+          number("stabilization",
+                 "stabilization factor alpha (0: off): each free DOF gets the force alpha (D / dl) (u - u_p), u_p the "
+                 "increment's predicted state, D the mean diagonal of the first stiffness matrix, dl the increment's "
+                 "fraction of its step; for local instabilities (a snap of the discrete problem), reported per increment",
+                 "0", 0, 1)}});
   r.add({"deck", "output", "Output settings.",
          {text("directory", "output directory (the command line's -o wins)", "results"),
           choice("vtu", "when to write ParaView files", {"every_increment", "last", "none"}, "every_increment")}});

@@ -373,6 +373,7 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                      r.uzawa_updates, json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
     j += "]";
+    if (r.stabilization_ratio > 0) j += fmt::format(", \"stabilization_ratio\": {}", json_number(r.stabilization_ratio));
     if (!r.contact.empty()) {
       j += ", \"contact\": [";
       for (size_t k = 0; k < r.contact.size(); ++k) {

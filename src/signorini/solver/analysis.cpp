@@ -239,6 +239,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     if (tangent && system_.missed()) throw SolverError("contact coupling outside the sparse pattern");
     break;
   }
+  add_stabilization(fint, tangent);
   residual = fext - fint + fc;
   Real lift_force = 0;
   for (Index i = 0; i < residual.size(); ++i)
@@ -269,7 +270,40 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
-  return std::max({fint.norm(), fext.norm(), fc.norm(), lift_force});
+  const Real scale = std::max({fint.norm(), fext.norm(), fc.norm(), lift_force});
+  stab_ratio_ = scale > 0 ? stab_force_ / scale : 0;
+  return scale;
+}
+
+// Stabilization (solver.stabilization = alpha): f_v = c (u - u_p) on the free displacement
+// DOFs, c = alpha D / dl, u_p the increment's predicted state (the last increment's motion
+// extrapolated; u_n without a predictor). As dl is cut back c grows, so that a local snap of
+// the discrete problem (a limit point with no equilibrium near the last one, e.g. a stick-slip
+// release) is crossed by a sequence of damped states instead of a failed Newton iteration.
+// Measured from the predicted state rather than from u_n (a damping of the pseudo-velocity
+// would drag every steadily moving body, e.g. a sliding indenter), it only resists departures
+// from the extrapolated path, like an inertia term of implicit dynamics; on smooth increments
+// it is a small perturbation, reported per increment (|f_v| / F) so that the user can judge
+// it. D is one scale for all DOFs, the mean diagonal of the first tangent.
+void Analysis::add_stabilization(VecX& fint, bool tangent) {
+  stab_force_ = 0;
+  const Real alpha = model_.newton.stabilization;
+  if (!(alpha > 0) || !(stab_dl_ > 0)) return;
+  if (stab_scale_ == 0) {
+    if (!tangent) return;
+    stab_scale_ = system_.mean_abs_diagonal();
+  }
+  const Real c = alpha * stab_scale_ / stab_dl_;
+  MatX one = MatX::Constant(1, 1, c);
+  Real f2 = 0;
+  for (Index i = 0; i < dofs_.num_dofs(); ++i) {
+    if (constrained_[i]) continue;
+    const Real du = u_(i) - u_predicted_(i);
+    fint(i) += c * du;
+    f2 += c * du * c * du;
+    if (tangent) system_.add(&i, 1, one);
+  }
+  stab_force_ = std::sqrt(f2);
 }
 
 void Analysis::begin_step(int s) {
@@ -381,8 +415,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   // multipliers: a line search on it stalls the active-set updates, so steps are full.
   for (auto& c : contacts_) ns.line_search = ns.line_search && !c->uses_multipliers();
   u_ = u_converged_;
+  stab_dl_ = dl;
   // Predictor: the free DOFs continue along the last increment of this step, scaled.
   if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
+  u_predicted_ = u_;
   // Prescribed DOFs: where the predictor puts them; the first Newton step takes them the
   // rest of the way (evaluate). Without a predictor, from the converged state.
   for (auto& b : model_.bodies) b->revert();
@@ -645,6 +681,7 @@ AnalysisSummary Analysis::run_steps() {
       rec.time = s + lambda;
       rec.cutbacks = cutbacks;
       rec.seconds = t.seconds();
+      rec.stabilization_ratio = stab_ratio_;
       cutbacks = 0;
       summary_.total_iterations += rec.iterations;
       summary_.increments.push_back(rec);
@@ -654,6 +691,8 @@ AnalysisSummary Analysis::run_steps() {
                        ? fmt::format("  [{}: {} closed ({} stick, {} slip), {} changed]", c.label, c.active,
                                      c.sticking, c.slipping, c.changes)
                        : fmt::format("  [{}: {} closed, {} changed]", c.label, c.active, c.changes);
+      if (model_.newton.stabilization > 0)
+        contact += fmt::format("  [stabilization |f_v|/F {:.2e}]", rec.stabilization_ratio);
       log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]{}",
                 s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
                 log::elapsed(), contact);

@@ -39,6 +39,9 @@ struct IncrementRecord {
   std::string linear_solver;
   std::vector<ContactStats> contact;  // per contact interface
   int uzawa_updates = 0;              // augmented Lagrangian multiplier updates
+  // Stabilization (solver.stabilization): |f_v| at convergence, relative to the largest of
+  // |f_int| and |f_ext|.
+  Real stabilization_ratio = 0;
 };
 
 struct AnalysisSummary {
@@ -90,6 +93,7 @@ class Analysis {
   // Residual (fext - fint, zero at constrained DOFs) at u for the step fraction lambda;
   // assembles the tangent too if asked. Returns the force scale for the relative test.
   Real evaluate(Real lambda, bool tangent, VecX& residual);
+  void add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();
   void detect_contact(Real max_step);
@@ -115,6 +119,10 @@ class Analysis {
   bool symmetric_ = true;
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
   bool condense_reported_ = false;
+  // Stabilization: the stiffness scale D (set at the first tangent), the current increment
+  // dl, |f_v| and |f_v| / F at the last evaluation.
+  Real stab_scale_ = 0, stab_dl_ = 0, stab_force_ = 0, stab_ratio_ = 0;
+  VecX u_predicted_;  // the increment's starting state (the predictor's)
   // SIGNORINI_CHECK_TANGENT=1: log the tangent against central differences along each Newton step.
   bool check_tangent_ = std::getenv("SIGNORINI_CHECK_TANGENT") != nullptr;
   VecX u_, u_converged_, reactions_;
