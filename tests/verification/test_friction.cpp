@@ -15,14 +15,21 @@ using namespace signorini;
 
 namespace {
 
-std::string block_deck(const std::string& drag_step) {
+// The deck of examples/<name>/<name>.yaml with its mesh path made absolute.
+std::string example_deck(const std::string& name) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "friction_block";
-  std::ifstream in(dir / "friction_block.yaml");
+  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / name;
+  std::ifstream in(dir / (name + ".yaml"));
   std::stringstream ss;
   ss << in.rdbuf();
   std::string deck = ss.str();
-  deck.replace(deck.find("file: friction_block.geo"), 24, "file: " + (dir / "friction_block.geo").string());
+  const std::string mesh = "file: " + name + ".geo";
+  deck.replace(deck.find(mesh), mesh.size(), "file: " + (dir / (name + ".geo")).string());
+  return deck;
+}
+
+std::string block_deck(const std::string& drag_step) {
+  std::string deck = example_deck("friction_block");
   const size_t a = deck.find("  - name: drag"), b = deck.find("checks:");
   deck.replace(a, b - a, drag_step);
   return deck;
@@ -157,13 +164,7 @@ TEST(Friction, LagrangeMultipliersOnASymmetryPlane) {
   // node's status flips on round-off, the run cuts back and gives up at 62 % of the load. With
   // it, the run completes without cutback and the pressure at 0 degrees agrees with the
   // penalty method's on the same mesh.
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "klang_pin";
-  std::ifstream in(dir / "klang_pin.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string base = ss.str();
-  base.replace(base.find("file: klang_pin.geo"), 19, "file: " + (dir / "klang_pin.geo").string());
+  std::string base = example_deck("klang_pin");
   base.replace(base.find("h: 0.0005"), 9, "h: 0.002");
   Real p0[2] = {0, 0};
   int k = 0;
