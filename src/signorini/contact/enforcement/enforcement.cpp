@@ -24,9 +24,10 @@ void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vect
 // (redundant constraints: the status flips on round-off). Those components of lambda_T are
 // released (w lambda_T . e = 0): a direction e is released when the free DOFs move the slip
 // along it by less than 0.1 of what all the constraint's DOFs do (within about 6 degrees of
-// being prescribed). Returns the projector on the released directions, held constant in the
-// Jacobian: exact in 2D, where a released row is w lambda_T whatever the normal; in 3D the
-// rotation of a released direction with the normal is left out.
+// being prescribed). Returns the projector on the released directions. When it spans the
+// tangent plane (always, in 2D) the node is treated as frictionless (rows w lambda_T = 0, an
+// exact tangent); one direction of two in 3D is replaced in the rows with the projector held
+// constant in the Jacobian (its rotation with the normal is left out of the tangent).
 MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c, const std::vector<Index>& dofs,
                                 int m, const MatX& P) {
   const int dim = in.dim;
@@ -271,6 +272,18 @@ class LagrangeMultipliers final : public Enforcement {
     const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
     const ReturnMap rm = return_map(q, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
     const MatX Q = prescribed_slip_directions(in, c, dofs, m, P);
+    if (Q.trace() > dim - 1.5) {
+      // Every tangential direction prescribed (in 2D, the one): as frictionless, rows w lambda_T = 0.
+      out.traction[j] = l3;
+      for (int d = 0; d < dim; ++d) {
+#pragma omp atomic
+        residual(tdof[d]) -= w * lt(d);
+      }
+      if (!k) return;
+      k->block(m + 1, m + 1, dim, dim) = w * MatX::Identity(dim, dim);
+      for (int d = 0; d < dim; ++d) dofs.push_back(tdof[d]);
+      return;
+    }
     out.traction[j] = l3;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = q.norm() - bound;
