@@ -239,7 +239,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     if (tangent && system_.missed()) throw SolverError("contact coupling outside the sparse pattern");
     break;
   }
-  add_stabilization(fint, tangent);
+  const Real stab_force = add_stabilization(fint, tangent);
   residual = fext - fint + fc;
   Real lift_force = 0;
   for (Index i = 0; i < residual.size(); ++i)
@@ -271,7 +271,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
   const Real scale = std::max({fint.norm(), fext.norm(), fc.norm(), lift_force});
-  stab_ratio_ = scale > 0 ? stab_force_ / scale : 0;
+  stab_ratio_ = scale > 0 ? stab_force / scale : 0;
   return scale;
 }
 
@@ -285,12 +285,12 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
 // from the extrapolated path, like an inertia term of implicit dynamics; on smooth increments
 // it is a small perturbation, reported per increment (|f_v| / F) so that the user can judge
 // it. D is one scale for all DOFs, the mean diagonal of the first tangent.
-void Analysis::add_stabilization(VecX& fint, bool tangent) {
-  stab_force_ = 0;
+// Returns |f_v|.
+Real Analysis::add_stabilization(VecX& fint, bool tangent) {
   const Real alpha = model_.newton.stabilization;
-  if (!(alpha > 0) || !(stab_dl_ > 0)) return;
+  if (!(alpha > 0) || !(stab_dl_ > 0)) return 0;
   if (stab_scale_ == 0) {
-    if (!tangent) return;
+    if (!tangent) return 0;
     stab_scale_ = system_.mean_abs_diagonal();
   }
   const Real c = alpha * stab_scale_ / stab_dl_;
@@ -303,7 +303,7 @@ void Analysis::add_stabilization(VecX& fint, bool tangent) {
     f2 += c * du * c * du;
     if (tangent) system_.add(&i, 1, one);
   }
-  stab_force_ = std::sqrt(f2);
+  return std::sqrt(f2);
 }
 
 void Analysis::begin_step(int s) {

@@ -93,7 +93,7 @@ class Analysis {
   // Residual (fext - fint, zero at constrained DOFs) at u for the step fraction lambda;
   // assembles the tangent too if asked. Returns the force scale for the relative test.
   Real evaluate(Real lambda, bool tangent, VecX& residual);
-  void add_stabilization(VecX& fint, bool tangent);
+  Real add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();
   void detect_contact(Real max_step);
@@ -120,8 +120,8 @@ class Analysis {
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
   bool condense_reported_ = false;
   // Stabilization: the stiffness scale D (set at the first tangent), the current increment
-  // dl, |f_v| and |f_v| / F at the last evaluation.
-  Real stab_scale_ = 0, stab_dl_ = 0, stab_force_ = 0, stab_ratio_ = 0;
+  // dl, and |f_v| / F at the last evaluation.
+  Real stab_scale_ = 0, stab_dl_ = 0, stab_ratio_ = 0;
   VecX u_predicted_;  // the increment's starting state (the predictor's)
   // SIGNORINI_CHECK_TANGENT=1: log the tangent against central differences along each Newton step.
   bool check_tangent_ = std::getenv("SIGNORINI_CHECK_TANGENT") != nullptr;

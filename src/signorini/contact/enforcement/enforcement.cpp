@@ -29,7 +29,7 @@ void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vect
 // exact tangent); one direction of two in 3D is replaced in the rows with the projector held
 // constant in the Jacobian (its rotation with the normal is left out of the tangent).
 MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c, const std::vector<Index>& dofs,
-                                int m, const MatX& P) {
+                                int m) {
   const int dim = in.dim;
   if (!in.fixed) return MatX::Zero(dim, dim);
   const MatX& D = c.slip_jacobian;
@@ -42,6 +42,7 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
   // added to both so that only tangential directions can be released.
   const VecX nv = c.normal.head(dim);
   const MatX N = nv * nv.transpose();
+  const MatX P = MatX::Identity(dim, dim) - N;
   const MatX all = P * D * D.transpose() * P + N;
   const MatX free = P * Df * Df.transpose() * P + N;
   Eigen::GeneralizedSelfAdjointEigenSolver<MatX> es(free, all);
@@ -225,7 +226,10 @@ class LagrangeMultipliers final : public Enforcement {
         }
         constraint_dofs(c, *in.dofs, dim, dofs);
         const int m = static_cast<int>(dofs.size());
-        const bool slips = friction && c.has_slip;
+        // Friction, unless every tangential direction of the node is prescribed (then as frictionless).
+        MatX Q;
+        if (friction && c.has_slip) Q = prescribed_slip_directions(in, c, dofs, m);
+        const bool slips = friction && c.has_slip && Q.trace() < dim - 1.5;
         // Displacement rows: f_c = lambda w grad g.
         add_vector(residual, dofs, c.grad, lambda * c.weight);
         // Multiplier row: F = c w g; R = -F.
@@ -238,8 +242,8 @@ class LagrangeMultipliers final : public Enforcement {
           k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
           dofs.push_back(ldof);
         }
-        if (slips) add_friction(in, j, c, lambda, lt, tdof, dofs, m, residual, K ? &k : nullptr, out);
-        else release_tangential(c.weight);  // frictionless, or no slip origin yet: no tangential traction
+        if (slips) add_friction(in, j, c, lambda, lt, Q, tdof, dofs, m, residual, K ? &k : nullptr, out);
+        else release_tangential(c.weight);  // frictionless, no slip origin yet, or no free slip: no tangential traction
         if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
       }
     }
@@ -256,8 +260,9 @@ class LagrangeMultipliers final : public Enforcement {
   // Tangent: dE/dlambda_T = w (I - A P), dE/dz = -w (A dq/dz + b dF/dz), dE/dlambda = -w b F',
   // with A, b the return map's derivatives in q and F, dF/dz = -F' c grad g and dq/dz from
   // trial_derivative with v = lambda_T + c_T d.
+  // Q: the projector on the tangential directions whose slip is prescribed (released rows).
   static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real lambda, const VecX& lt,
-                           const Index* tdof, std::vector<Index>& dofs, int m, VecX& residual, MatX* k,
+                           const MatX& Q, const Index* tdof, std::vector<Index>& dofs, int m, VecX& residual, MatX* k,
                            EnforcementOutput& out) {
     const int dim = in.dim;
     const Real w = c.weight, c0 = (*in.stiffness)[j], ct = (*in.tangential_stiffness)[j];
@@ -271,19 +276,6 @@ class LagrangeMultipliers final : public Enforcement {
     const Real p = lambda - c0 * c.gap;
     const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
     const ReturnMap rm = return_map(q, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
-    const MatX Q = prescribed_slip_directions(in, c, dofs, m, P);
-    if (Q.trace() > dim - 1.5) {
-      // Every tangential direction prescribed (in 2D, the one): as frictionless, rows w lambda_T = 0.
-      out.traction[j] = l3;
-      for (int d = 0; d < dim; ++d) {
-#pragma omp atomic
-        residual(tdof[d]) -= w * lt(d);
-      }
-      if (!k) return;
-      k->block(m + 1, m + 1, dim, dim) = w * MatX::Identity(dim, dim);
-      for (int d = 0; d < dim; ++d) dofs.push_back(tdof[d]);
-      return;
-    }
     out.traction[j] = l3;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = q.norm() - bound;
