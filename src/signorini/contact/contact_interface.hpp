@@ -117,6 +117,7 @@ class ContactInterface {
   std::string label_;
   AnalysisSettings as_;
   int dim_;
+  std::vector<Index> node_ids_;  // the mesh's node ids, for messages
   MasterSurface master_;
   SlaveSurface slave_;
   std::unique_ptr<ContactSearch> search_;
@@ -154,6 +155,7 @@ class ContactInterface {
   std::vector<signed char> friction_hold_;
   static constexpr int kSwapped = 1 << 20;               // friction_flips_ of a hold swapped once
   static constexpr Real kHeldFrictionTolerance = 0.02;   // of the bound
+  static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h
   Real friction_violation(size_t j) const;
   std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
