@@ -143,6 +143,8 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
   fs::path file = n.child("file").as_string();
   if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
   m.mesh = read_gmsh(file.string(), opt);
+  if (const Real scale = n.number(spec, "scale"); scale != 1)
+    for (Vec3& x : m.mesh.nodes) x *= scale;
   const int dim = m.settings.spatial_dim();
   if (m.mesh.dim != dim)
     n.child("file").fail(fmt::format("the mesh has {}D cells but the analysis is {} ({}D)", m.mesh.dim,
