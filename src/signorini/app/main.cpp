@@ -8,6 +8,7 @@
 
 #include "signorini/app/bench_search.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/io/results_writer.hpp"
@@ -61,19 +62,20 @@ int run(const std::string& deck, const std::string& outdir, bool check_only) {
   fmt::print("  unknowns   {} DOFs, {} threads\n", analysis.dofs().num_dofs(), omp_get_max_threads());
   std::fflush(stdout);
   writer.write_initial(analysis);
+  install_interrupt_handlers();
   analysis.on_increment([&](const Analysis& a, const IncrementRecord& r) { writer.write_increment(a, r); });
   AnalysisSummary s = analysis.run();
   auto checks = evaluate_checks(analysis);
   writer.finish(analysis, s, checks);
   fmt::print("\n");
   if (!s.completed) {
-    fmt::print("Analysis gave up: {}\n", s.failure);
+    fmt::print("Analysis {}: {}\n", s.interrupted ? "interrupted" : "gave up", s.failure);
     if (s.increments.empty())
       fmt::print("No increment converged; the initial state is in {}/ (ParaView: {})\n", dir, writer.pvd_path());
     else
       fmt::print("Results up to the last converged increment (time {:.6g}) are in {}/ (ParaView: {})\n",
                  s.increments.back().time, dir, writer.pvd_path());
-    return 2;
+    return s.interrupted ? 128 + interrupt_signal() : 2;
   }
   fmt::print("Solved '{}': {} steps, {} increments, {} Newton iterations, {:.2f} s (assembly {:.2f} s, {}linear solve "
              "{:.2f} s), peak memory {:.0f} MiB\n",

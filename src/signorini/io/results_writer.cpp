@@ -345,7 +345,7 @@ void ResultsWriter::finish(const Analysis& a, const AnalysisSummary& s, const st
   // With vtu: last, a failed run still leaves its last converged state on disk.
   if (!s.completed && model_.output.vtu == "last" && have_last_ && last_record_.fraction < 1.0)
     write_vtu(a, last_record_.time, last_record_.step, last_record_.increment);
-  write_json(a, s, s.completed ? "completed" : "failed", checks);
+  write_json(a, s, s.completed ? "completed" : s.interrupted ? "interrupted" : "failed", checks);
 }
 
 void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, const std::string& status,
@@ -359,7 +359,9 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                    to_string(m.settings.dimension), m.settings.finite_strain ? "finite_strain" : "small_strain");
   j += fmt::format("  \"nodes\": {},\n  \"cells\": {},\n  \"dofs\": {},\n", m.mesh.num_nodes(), m.mesh.num_cells(),
                    a.dofs().num_dofs());
-  j += fmt::format("  \"total_iterations\": {},\n", s.total_iterations);
+  // Converged increments' iterations, and those of the attempts that were cut back.
+  j += fmt::format("  \"total_iterations\": {},\n  \"failed_iterations\": {},\n", s.total_iterations,
+                   s.failed_iterations);
   j += fmt::format("  \"timings\": {{\"assembly_s\": {}, \"contact_s\": {}, \"linear_solve_s\": {}, \"total_s\": {}}},\n",
                    json_number(s.assembly_seconds), json_number(s.contact_seconds), json_number(s.solve_seconds),
                    json_number(log::elapsed()));
@@ -368,8 +370,10 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   for (size_t i = 0; i < s.increments.size(); ++i) {
     const auto& r = s.increments[i];
     j += fmt::format("{}\n    {{\"step\": {}, \"increment\": {}, \"time\": {}, \"iterations\": {}, \"cutbacks\": {}, "
-                     "\"uzawa_updates\": {}, \"seconds\": {}, \"linear_solver\": \"{}\", \"residuals\": [",
+                     "\"failed_iterations\": {}, \"uzawa_updates\": {}, \"seconds\": {}, \"linear_solver\": \"{}\", "
+                     "\"residuals\": [",
                      i ? "," : "", r.step + 1, r.increment, json_number(r.time), r.iterations, r.cutbacks,
+                     r.failed_iterations,
                      r.uzawa_updates, json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
     j += "]";

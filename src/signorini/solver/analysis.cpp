@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
 
 namespace signorini {
@@ -471,6 +472,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     Real energy0 = 0;
     int cycle_start = 1, uzawa = 0, released_rounds = 0;
     for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
+      if (const int sig = interrupt_signal()) throw Interrupted(sig);
       log::Timer ts;
       try {
         // Multiplier contact with the automatic solver: the condensed system when its structure
@@ -606,6 +608,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     return false;
   } catch (const FatalModelError&) {
     throw;
+  } catch (const Interrupted&) {
+    throw;
   } catch (const SolverError& e) {
     why = e.what();
     return false;
@@ -619,6 +623,14 @@ AnalysisSummary Analysis::run() {
     for (auto& b : model_.bodies) b->revert();
     u_ = u_converged_;
     summary_.failure = e.what();
+    return summary_;
+  } catch (const Interrupted& e) {
+    // Back to the last converged increment, the state the writer keeps on disk.
+    for (auto& b : model_.bodies) b->revert();
+    u_ = u_converged_;
+    summary_.interrupted = true;
+    summary_.failure = fmt::format("interrupted by signal {} ({}); the last converged increment is kept", e.signal,
+                                   e.signal == 2 ? "SIGINT" : e.signal == 15 ? "SIGTERM" : "a signal");
     return summary_;
   }
 }
@@ -636,8 +648,9 @@ AnalysisSummary Analysis::run_steps() {
     log::info("step {} '{}': {} Dirichlet conditions, {} loads", s + 1, step.name, step.dirichlet.size(),
               step.loads.size());
     Real lambda = 0, dl = std::min(step.initial_increment, step.max_increment);
-    int inc = 0, cutbacks = 0;
+    int inc = 0, cutbacks = 0, failed_iterations = 0;
     while (lambda < 1 - 1e-12) {
+      if (const int sig = interrupt_signal()) throw Interrupted(sig);
       if (inc >= step.max_increments) {
         summary_.failure = fmt::format("step '{}': more than {} increments", step.name, step.max_increments);
         summary_.total_seconds = total.seconds();
@@ -652,6 +665,8 @@ AnalysisSummary Analysis::run_steps() {
       const bool ok = solve_increment(lambda + dl, dl, rec, why);
       if (!ok) {
         ++cutbacks;
+        failed_iterations += rec.iterations;
+        summary_.failed_iterations += rec.iterations;
         const Real next = dl * model_.newton.cutback_factor;
         log::warning("step '{}' increment {} (fraction {:.4g} -> {:.4g}) failed: {}; cutting back to {:.3g}",
                      step.name, inc + 1, lambda, lambda + dl, why, next);
@@ -680,9 +695,10 @@ AnalysisSummary Analysis::run_steps() {
       rec.fraction = lambda;
       rec.time = s + lambda;
       rec.cutbacks = cutbacks;
+      rec.failed_iterations = failed_iterations;
       rec.seconds = t.seconds();
       rec.stabilization_ratio = stab_ratio_;
-      cutbacks = 0;
+      cutbacks = failed_iterations = 0;
       summary_.total_iterations += rec.iterations;
       summary_.increments.push_back(rec);
       std::string contact;

@@ -26,6 +26,14 @@ class FatalModelError : public SolverError {
   using SolverError::SolverError;
 };
 
+// SIGINT/SIGTERM received (core/interrupt.hpp): the run stops at the last converged increment.
+class Interrupted : public std::exception {
+ public:
+  explicit Interrupted(int s) : signal(s) {}
+  const char* what() const noexcept override { return "interrupted"; }
+  int signal;
+};
+
 struct IncrementRecord {
   int step = 0;              // 0-based
   int increment = 0;         // 1-based within the step
@@ -33,6 +41,7 @@ struct IncrementRecord {
   Real time = 0;             // pseudo-time: step index + fraction
   int iterations = 0;
   int cutbacks = 0;          // failed attempts before this converged increment
+  int failed_iterations = 0; // Newton iterations spent in those failed attempts
   std::vector<Real> residuals;  // relative residual norm per iteration (first: before solving)
   std::vector<Real> energies;   // |du . R| per iteration
   double seconds = 0;
@@ -48,7 +57,9 @@ struct AnalysisSummary {
   bool completed = false;
   std::string failure;       // why the analysis gave up
   std::vector<IncrementRecord> increments;
-  int total_iterations = 0;
+  int total_iterations = 0;       // Newton iterations of the converged increments
+  int failed_iterations = 0;      // Newton iterations of the attempts that were cut back
+  bool interrupted = false;       // stopped by SIGINT/SIGTERM (the state is the last converged one)
   double assembly_seconds = 0, solve_seconds = 0, total_seconds = 0;
   double contact_seconds = 0;  // detection, constraints and enforcement (not in assembly_seconds)
 };
