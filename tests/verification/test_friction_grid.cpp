@@ -55,7 +55,7 @@ TEST(FrictionGridUnits, SameResultInMillimetresAndMetres) {
   EXPECT_NEAR(si.a, 1e-3 * mm.a, 1e-8 * 1e-3 * mm.a);
   EXPECT_NEAR(si.P, 1e3 * mm.P, 1e-6 * 1e3 * mm.P);
   std::printf("Newton iterations: mm %d, m %d\n", mm.iterations, si.iterations);
-  // Equal here (15 and 15); the units' round-off can still flip a decision at a kink: with
-  // Q set for P = 400 instead of 388.4 the same comparison took 17 and 14.
-  EXPECT_EQ(mm.iterations, si.iterations);
+  // Not asserted: the iterations (15 and 15, 15 and 16 in another run of the same binary: the
+  // linear solver's BLAS threads also vary the round-off) follow kink decisions that round-off
+  // can flip; the converged state does not.
 }
