@@ -13,7 +13,7 @@ namespace signorini {
 
 ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mesh, const AnalysisSettings& as,
                                    Real stiffness_scale, bool second_pass)
-    : s_(s), as_(as), dim_(as.spatial_dim()), node_ids_(mesh.node_ids) {
+    : s_(s), as_(as), dim_(as.spatial_dim()), node_ids_(&mesh.node_ids) {
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
   if (!s_.rigid) {
@@ -323,9 +323,7 @@ void ContactInterface::count_status_changes() {
   if (!newly_frozen.empty()) {
     std::string ids;
     for (size_t k = 0; k < newly_frozen.size() && k < 20; ++k)
-      ids += (k ? ", " : "") + std::to_string(static_cast<size_t>(newly_frozen[k]) < node_ids_.size()
-                                                  ? node_ids_[newly_frozen[k]]
-                                                  : newly_frozen[k] + 1);
+      ids += (k ? ", " : "") + std::to_string((*node_ids_)[newly_frozen[k]]);
     log::warning("contact '{}': {} slave node(s) changed status (open/closed or stick/slip) more than {} times in this "
                  "increment and are held in their status until it ends (mesh nodes {}{})",
                  label_, newly_frozen.size(), s_.max_flips, ids, newly_frozen.size() > 20 ? ", ..." : "");

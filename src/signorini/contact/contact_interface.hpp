@@ -117,7 +117,7 @@ class ContactInterface {
   std::string label_;
   AnalysisSettings as_;
   int dim_;
-  std::vector<Index> node_ids_;  // the mesh's node ids, for messages
+  const std::vector<Index>* node_ids_;  // the mesh's node ids, for messages (the mesh outlives the pair)
   MasterSurface master_;
   SlaveSurface slave_;
   std::unique_ptr<ContactSearch> search_;

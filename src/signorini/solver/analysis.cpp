@@ -1,6 +1,7 @@
 #include "signorini/solver/analysis.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <functional>
@@ -608,8 +609,6 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     return false;
   } catch (const FatalModelError&) {
     throw;
-  } catch (const Interrupted&) {
-    throw;
   } catch (const SolverError& e) {
     why = e.what();
     return false;
@@ -620,19 +619,16 @@ AnalysisSummary Analysis::run() {
   try {
     return run_steps();
   } catch (const FatalModelError& e) {
-    for (auto& b : model_.bodies) b->revert();
-    u_ = u_converged_;
     summary_.failure = e.what();
-    return summary_;
   } catch (const Interrupted& e) {
-    // Back to the last converged increment, the state the writer keeps on disk.
-    for (auto& b : model_.bodies) b->revert();
-    u_ = u_converged_;
     summary_.interrupted = true;
     summary_.failure = fmt::format("interrupted by signal {} ({}); the last converged increment is kept", e.signal,
-                                   e.signal == 2 ? "SIGINT" : e.signal == 15 ? "SIGTERM" : "a signal");
-    return summary_;
+                                   e.signal == SIGINT ? "SIGINT" : e.signal == SIGTERM ? "SIGTERM" : "a signal");
   }
+  // Back to the last converged increment, the state the writer keeps on disk.
+  for (auto& b : model_.bodies) b->revert();
+  u_ = u_converged_;
+  return summary_;
 }
 
 AnalysisSummary Analysis::run_steps() {
