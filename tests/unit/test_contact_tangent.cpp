@@ -89,7 +89,7 @@ TEST_P(ContactTangent, MatchesCentralDifferences) {
     // Non-zero multipliers lambda-bar: one Uzawa update from this state.
     residual(z, nullptr);
     Real pen = 0;
-    ASSERT_FALSE(ci.uzawa_update(pen));
+    ASSERT_FALSE(ci.augment(test::cells_of_positions(mesh, dofs, z), z, pen));
   }
   DenseMatrix K(nz);
   residual(z, &K);
@@ -165,7 +165,7 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
     if (std::string(method) == "augmented_lagrangian") {
       residual(z, nullptr);
       Real pen = 0;
-      ci.uzawa_update(pen);
+      ci.augment(test::cells_of_positions(mesh, dofs, z), z, pen);
     }
     DenseMatrix K(nz);
     const VecX r0 = residual(z, &K);
@@ -199,11 +199,11 @@ TEST(Friction, ReturnMapStickSlipAndApex) {
   EXPECT_EQ(apex.traction, Vec3::Zero());
   // The chattering guard's holds: slip from inside the disc goes to the rim, stick from
   // outside keeps the trial traction.
-  ReturnMap held_slip = return_map(trial, 0.6, 2);
+  ReturnMap held_slip = return_map(trial, 0.6, StickSlip::slip);
   EXPECT_TRUE(held_slip.slip);
   EXPECT_NEAR(held_slip.traction.norm(), 0.6, 1e-15);
   EXPECT_NEAR(held_slip.traction.dot(trial) / (0.6 * 0.5), 1.0, 1e-15);
-  ReturnMap held_stick = return_map(trial, 0.2, 1);
+  ReturnMap held_stick = return_map(trial, 0.2, StickSlip::stick);
   EXPECT_FALSE(held_stick.slip);
   EXPECT_EQ(held_stick.traction, trial);
   // Derivatives in the slip state against central differences.
@@ -331,7 +331,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
       // the check at a state moved further.
       residual(zc, nullptr);
       Real pen = 0;
-      ASSERT_FALSE(ci.uzawa_update(pen));
+      ASSERT_FALSE(ci.augment(test::cells_of_positions(mesh, dofs, zc), zc, pen));
       for (Index n : mesh.node_sets[moving]) zc(dofs.dof(n, 0)) += 0.002 * std::sin(9 * mesh.nodes[n](0));
     }
     DenseMatrix K(nz);

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "signorini/app/bench_search.hpp"
+#include "signorini/contact/compatibility.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
@@ -153,6 +154,7 @@ int main(int argc, char** argv) {
         return 1;
       }
       fmt::print("{}", r.describe(*s));
+      if (s->name == "contact") fmt::print("\n{}", contact_compatibility_text());
       return 0;
     }
     return run(deck, outdir, check_cmd->parsed());

@@ -21,6 +21,11 @@ struct Constraint {
   std::vector<Index> extra_dofs;  // unknowns after the nodes' (a rigid obstacle's displacement)
   VecX grad;                 // d gap / d x (dim per node, then the extra DOFs)
   MatX hess;                 // d2 gap / d x2
+  // d normal / d x (dim rows, the columns of grad): the normal's variation, which friction's
+  // tangent needs. Node-to-segment and the rigid obstacles have n = d gap / d x_s, so it is the
+  // first dim rows of hess; node-to-node freezes the normal (zero); mortar's averaged nodal
+  // normals have their own.
+  MatX normal_jacobian;
   // The closest master point as a combination of nodes[1..] (friction: where the slave node
   // touches the master material).
   std::vector<Real> master_weights;

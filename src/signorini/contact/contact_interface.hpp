@@ -9,8 +9,9 @@
 
 #include "signorini/contact/constraint.hpp"
 #include "signorini/contact/contact_settings.hpp"
+#include "signorini/contact/discretization/discretization.hpp"
+#include "signorini/contact/pair_state.hpp"
 #include "signorini/contact/enforcement/enforcement.hpp"
-#include "signorini/contact/search/search.hpp"
 #include "signorini/contact/surface.hpp"
 #include "signorini/fem/analysis_settings.hpp"
 
@@ -47,15 +48,13 @@ class ContactInterface {
   }
   void set_multiplier_offset(Index o) { offset_ = o; }
   Index multiplier_offset() const { return offset_; }
-  // Penalty (or complementarity constant) of each slave node.
-  const std::vector<Real>& stiffness() const { return stiffness_; }
   bool update_each_iteration() const { return s_.update == "iteration"; }
   bool rigid() const { return s_.rigid; }
   // A rigid obstacle's displacement from its deck position is `dim` unknowns of their own,
   // numbered from `first` (prescribed, loaded by a force, or held by the analysis).
-  Index num_obstacle_dofs() const { return s_.rigid ? dim_ : 0; }
-  void set_obstacle_dofs(Index first) { obstacle_dofs_ = first; }
-  Index obstacle_dofs() const { return obstacle_dofs_; }
+  Index num_obstacle_dofs() const { return discretization_->num_extra_dofs(); }
+  void set_obstacle_dofs(Index first) { discretization_->set_extra_dofs(first); }
+  Index obstacle_dofs() const { return discretization_->extra_dofs(); }
 
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
@@ -72,14 +71,20 @@ class ContactInterface {
   bool augmented() const { return s_.method == "augmented_lagrangian"; }
   // Largest accepted penetration of the augmented Lagrangian (the smallest over the nodes).
   Real gap_tolerance() const;
-  // Augmented Lagrangian, after Newton converged: true if the penetration is within the
-  // tolerance; else the multipliers are updated (Uzawa) and false returned.
-  bool uzawa_update(Real& max_penetration);
+  // After Newton converged at (x, z): true if the enforcement is satisfied; else (augmented
+  // Lagrangian beyond its gap tolerance) it updates its multipliers (Uzawa), restarts the slip
+  // of the sticking nodes from their contact points, and returns false.
+  bool augment(const std::vector<Vec3>& x, const VecX& z, Real& max_penetration);
+  // Augmented Lagrangian: Uzawa updates allowed per increment.
+  int max_augmentations() const { return augmented() ? s_.max_uzawa : 0; }
   // After an accepted Newton iterate: count status changes (chattering guard).
   void count_status_changes();
   // After convergence: a node held closed that ends in tension is held open instead
   // (returns how many; Newton must go on then).
   Index fix_held_nodes();
+  // After convergence with nodes held by the chattering guard: releases every hold (returns
+  // how many nodes were held); a released node is held again at its next status change.
+  Index release_holds();
   // Held nodes whose final state violates the contact conditions (the increment is then not
   // a solution and is cut back): closed in tension, open and penetrating, or held in stick
   // (slip) with the trial traction outside (inside) the friction disc by more than 2 % of
@@ -88,10 +93,11 @@ class ContactInterface {
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();
 
-  // The state of each slave node for output: 0 no master within reach, 1 open, 2 closed.
+  // The state of each slave node for output (the numbers are the output's status codes).
+  enum Status : int { far = 0, open = 1, closed = 2, slipping = 3 };  // closed: sticking, with friction
   struct SlaveState {
     Index node;
-    int status;     // 0 far, 1 open, 2 closed (stick, with friction), 3 slip
+    int status;     // Status
     Real gap;       // NaN when no master is within reach
     Real pressure;  // positive in compression
     Vec3 traction = Vec3::Zero();   // friction: tangential traction on the slave
@@ -118,51 +124,22 @@ class ContactInterface {
   AnalysisSettings as_;
   int dim_;
   const std::vector<Index>* node_ids_;  // the mesh's node ids, for messages (the mesh outlives the pair)
-  MasterSurface master_;
   SlaveSurface slave_;
-  std::unique_ptr<ContactSearch> search_;
+  std::unique_ptr<Discretization> discretization_;
   std::unique_ptr<Enforcement> enforcement_;
-  SearchFacets facets_;
-  std::vector<Real> stiffness_, node_size_;  // per slave node: penalty, local facet size
-  Real mean_master_edge_ = 0;
-  Index offset_ = -1;
-  std::vector<Index> candidate_;          // per slave node: master facet (NTS) or node (NTN)
-  std::vector<Vec3> nts_normal_;          // NTN: frozen normals
-  ConstraintSet constraints_;
-  EnforcementOutput state_;
-  std::vector<char> last_active_, committed_active_;
-  std::vector<int> flips_;
-  std::vector<signed char> forced_;
-  Index frozen_reported_ = 0;
-  Index obstacle_dofs_ = -1;
-  std::vector<Real> shift_, shift_committed_;  // augmented Lagrangian multipliers
-  std::vector<Real> reported_pressure_;        // per slave node, see set_reported_pressure
-  // Friction: the law, the tangential penalty, and per slave node the slip origin (master
-  // nodes and weights, or a point relative to a rigid obstacle's offset), the committed
-  // traction and the slip record.
   std::unique_ptr<FrictionLaw> friction_;
-  std::vector<Real> tangential_stiffness_;
-  std::vector<std::vector<std::pair<Index, Real>>> origin_;
-  std::vector<Vec3> origin_point_;
-  std::vector<char> has_origin_;
-  std::vector<Vec3> traction_old_, traction_committed_;
-  std::vector<signed char> committed_friction_;  // per slave node: 0 open, 1 stick, 2 slip
-  // Chattering guard of the stick/slip status (as flips_/forced_ for open/closed): flips of
-  // a closed node's status in this increment, the status of the last iterate, and the hold
-  // (0 none, 1 stick, 2 slip) passed to the return map.
-  std::vector<int> friction_flips_;
-  std::vector<char> last_slip_;
-  std::vector<signed char> friction_hold_;
-  static constexpr int kSwapped = 1 << 20;               // friction_flips_ of a hold swapped once
-  static constexpr Real kHeldFrictionTolerance = 0.02;   // of the bound
+  Real mean_master_edge_ = 0;
+  Real dmax_ = 0;
+  Index offset_ = -1;
+  ConstraintSet constraints_;
+  EnforcementOutput state_;       // of the last assembly
+  std::vector<NodeRecord> nodes_;  // per slave node
+  Index frozen_reported_ = 0;
+  bool pressure_reported_ = false;  // set_reported_pressure was called (else the multipliers are reported)
+  static constexpr Real kHeldFrictionTolerance = 0.02;     // of the bound
   static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h
   Real friction_violation(size_t j) const;
-  std::vector<Real> slip_increment_, slip_accumulated_;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
-  void add_slip_kinematics(const std::vector<Vec3>& x, const VecX& z);
-  void record_origin(size_t j, const Constraint& c, const Vec3& slave_from_obstacle);
-  Vec3 obstacle_offset(const VecX& z) const;
-  Real dmax_ = 0;
 };
 
 }  // namespace signorini

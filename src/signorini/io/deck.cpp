@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "signorini/contact/compatibility.hpp"
 #include "signorini/contact/surface.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
@@ -469,15 +470,11 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
           if (!(ob.axis.norm() > 0)) rm.child("axis").fail("the axis must not be zero");
           ob.axis.normalize();
         }
-        if (ob.shape == "sphere" && dim == 2 && m.settings.dimension != Dimension::axisymmetric)
-          rm.child("rigid").fail("a sphere needs an axisymmetric or 3D analysis (use a cylinder in plane problems)");
       }
       cs.rigid = true;
       if (!c.has("slave")) c.fail("a contact pair needs a 'slave' facet set");
       cs.slave = facet_set(c.child("slave"));
-      if (c.has("passes")) c.child("passes").fail("a rigid obstacle has one pass");
       if (c.has("discretization")) c.child("discretization").fail("a rigid obstacle is node-to-surface by nature");
-      if (c.has("smoothing")) c.child("smoothing").fail("a rigid obstacle is smooth already");
     } else if (automatic) {
       if (!c.has("surfaces") || c.has("slave"))
         c.fail("with master: auto, name the two surfaces with 'surfaces: [A, B]' (and no 'slave')");
@@ -510,23 +507,9 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
                      "slave '{}' (E = {:g}) is stiffer than the master '{}' (E = {:g}).",
                      cs.where, cs.name, cs.slave, is.stiffness, cs.master, im.stiffness);
     }
-    cs.discretization = c.text(spec, "discretization");
+    if (!cs.rigid) cs.discretization = c.text(spec, "discretization");
     cs.passes = static_cast<int>(c.number(spec, "passes"));
-    if (cs.passes == 2 && cs.discretization != "node_to_segment")
-      c.child("passes").fail("two passes apply to node_to_segment only");
-    if (!cs.rigid) cs.smoothing = c.text(spec, "smoothing");
-    if (cs.smoothing != "none") {
-      Node sm = c.child("smoothing");
-      if (cs.discretization != "node_to_segment") sm.fail("smoothing applies to node_to_segment only");
-      const bool three = m.settings.spatial_dim() == 3;
-      const ElementType need = three ? ElementType::quad4 : ElementType::line2;
-      for (const std::string& set : cs.passes == 2 ? std::vector<std::string>{cs.master, cs.slave}
-                                                   : std::vector<std::string>{cs.master})
-        for (const ElementBlock& b : m.mesh.facet_sets.at(set))
-          if (b.type != need)
-            sm.fail(std::string("smoothing: hermite needs ") + (three ? "quad4 master facets in 3D (bicubic patches)" : "line2 master facets") +
-                    "; '" + set + "' has " + element_info(b.type).name);
-    }
+    cs.smoothing = c.text(spec, "smoothing");
     if (c.has("enforcement")) {
       Node e = c.child("enforcement");
       e.check_keys(es);
@@ -552,8 +535,6 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (cs.friction != "coulomb" && fn.has("mu")) fn.child("mu").fail("'mu' goes with law: coulomb");
       if (cs.friction != "tresca" && fn.has("bound")) fn.child("bound").fail("'bound' goes with law: tresca");
       if (fn.has("penalty")) cs.tangential_penalty = auto_or_positive(fn.child("penalty"));
-      if (cs.friction != "none" && cs.passes == 2)
-        fn.fail("friction with passes: 2 is not available (use one pass)");
     }
     if (c.has("search")) {
       Node s = c.child("search");
@@ -561,6 +542,21 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       cs.search = s.text(ss, "method");
       if (s.has("max_distance")) cs.max_distance = auto_or_positive(s.child("max_distance"));
       cs.update = s.text(ss, "update");
+    }
+    // The combination against the compatibility table (each facet type of either surface).
+    for (const ContactCombination& k : contact_combinations(cs, m.mesh, m.settings.dimension)) {
+      const CompatibilityIssue issue = check_contact_combination(k);
+      if (issue.message.empty()) continue;
+      // The deepest node of the rule's key (e.g. master.rigid) the deck has (Nodes are copied,
+      // never assigned: assigning a YAML::Node writes into the deck).
+      std::vector<Node> at{c};
+      for (size_t a = 0, b; a <= issue.key.size(); a = b + 1) {
+        b = std::min(issue.key.find('.', a), issue.key.size());
+        const std::string part = issue.key.substr(a, b - a);
+        if (!at.back().node.IsMap() || !at.back().has(part)) break;
+        at.push_back(at.back().child(part));
+      }
+      at.back().fail(issue.message);
     }
     // Slave facets must give every node a positive contact area (checked here, with the place).
     try {

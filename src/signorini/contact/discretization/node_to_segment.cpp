@@ -61,6 +61,7 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
       MatX dN;
       basis.eval(best_fp.xi, N, dN);
       c.master_weights.assign(N.data(), N.data() + N.size());
+      c.normal_jacobian = c.hess.topRows(dim);  // n = d gap / d x_s
       continue;
     }
     // Node-to-edge (3D, straight edges of linear facets): the closest point on the edges of
@@ -107,6 +108,7 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
         c.normal = eg.normal;
         c.nodes = {c.slave, ea, eb};
         c.master_weights = {1 - eg.eta, eg.eta};
+        c.normal_jacobian = c.hess.topRows(dim);
         continue;
       }
     }
@@ -133,6 +135,7 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     c.normal = pg.normal;
     c.nodes = {c.slave, vertex};
     c.master_weights = {1.0};
+    c.normal_jacobian = c.hess.topRows(dim);
   }
 }
 
@@ -155,6 +158,7 @@ void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_no
       c.grad(dim + d) = -normal[j](d);
     }
     c.hess.setZero(2 * dim, 2 * dim);  // the normal is frozen during the increment
+    c.normal_jacobian.setZero(dim, 2 * dim);
   }
 }
 

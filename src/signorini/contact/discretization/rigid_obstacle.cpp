@@ -55,6 +55,7 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Ind
         }
       }
     }
+    c.normal_jacobian = c.hess.topRows(dim);  // n = d gap / d x_s
   }
 }
 

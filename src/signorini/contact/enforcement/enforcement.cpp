@@ -64,12 +64,12 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
 }
 
 // Derivative of a trial traction P(n) v, v = v0 + c_T d (v0 fixed), over the constraint's
-// DOFs: c_T P D - n (v^T dn/dz) - (n . v) dn/dz, with dn/dz = d(dg/dx_s)/dz the first dim rows
-// of the gap's Hessian (n = dg/dx_s for every discretization). Shared by the penalty's trial
+// DOFs: c_T P D - n (v^T dn/dz) - (n . v) dn/dz, with dn/dz the constraint's normal_jacobian
+// (the discretization's; no assumption on how n relates to the gap's gradient). Shared by the penalty's trial
 // traction and the multipliers' complementarity function.
 MatX trial_derivative(const Constraint& c, int dim, const Vec3& v, Real ct) {
   const VecX n = c.normal.head(dim);
-  const MatX dn = c.hess.topRows(dim);
+  const MatX& dn = c.normal_jacobian;
   const MatX P = MatX::Identity(dim, dim) - n * n.transpose();
   return ct * P * c.slip_jacobian - n * (v.head(dim).transpose() * dn) - n.dot(v.head(dim)) * dn;
 }
@@ -98,8 +98,9 @@ class Penalty : public Enforcement {
         // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
         // can then start from touching. Augmented Lagrangian: the shift lambda-bar.
         if (c.kind == ConstraintKind::none) continue;
-        const Real eps = (*in.stiffness)[j];
-        const Real shift = in.shift ? (*in.shift)[j] : 0.0;
+        const NodeRecord& node = (*in.nodes)[j];
+        const Real eps = node.stiffness;
+        const Real shift = node.shift;
         if (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0)) continue;
         const Real p = shift - eps * c.gap;
         out.pressure[j] = p;
@@ -124,12 +125,13 @@ class Penalty : public Enforcement {
   static void add_friction(const EnforcementInput& in, Index j, const Constraint& c, Real eps, Real p,
                            const std::vector<Index>& dofs, VecX& residual, MatX* k, EnforcementOutput& out) {
     const int dim = in.dim;
-    const Real epst = (*in.tangential_stiffness)[j];
+    const NodeRecord& node = (*in.nodes)[j];
+    const Real epst = node.tangential_stiffness;
     const Vec3 n = c.normal;
-    const Vec3 v = (*in.traction_old)[j] + epst * c.slip;
+    const Vec3 v = node.traction_old + epst * c.slip;
     const Vec3 trial = v - n * n.dot(v);
     const Real bound = in.friction->bound(p);
-    const ReturnMap rm = return_map(trial, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
+    const ReturnMap rm = return_map(trial, bound, node.friction_hold);
     out.traction[j] = rm.traction;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = trial.norm() - bound;
@@ -143,9 +145,39 @@ class Penalty : public Enforcement {
   }
 };
 
+// Penalty with multipliers lambda-bar updated between Newton solves (Uzawa; Simo & Laursen
+// 1992, Wriggers 2006 sec. 6.3): p = <lambda-bar - eps g>.
 class AugmentedLagrangian final : public Penalty {
  public:
   std::string name() const override { return "augmented_lagrangian"; }
+  Augmentation augment(const ConstraintSet& cs, const EnforcementOutput& out, bool friction, Real gap_tolerance,
+                       std::vector<NodeRecord>& nodes) const override {
+    // Each node against its own tolerance: given, or 1e-3 of its local facet size.
+    Augmentation a;
+    auto tolerance = [&](size_t j) { return gap_tolerance > 0 ? gap_tolerance : 1e-3 * nodes[j].size; };
+    for (size_t j = 0; j < cs.size(); ++j) {
+      if (cs[j].kind == ConstraintKind::none || !out.active[j]) continue;
+      const Real pen = -cs[j].gap;
+      a.max_penetration = std::max(a.max_penetration, pen);
+      a.converged = a.converged && pen <= tolerance(j);
+      // Friction: a sticking node's elastic slip (the tangential part of d since the last
+      // update) must be within the same tolerance.
+      if (friction && cs[j].has_slip && !out.slip[j])
+        a.converged = a.converged && cs[j].tangential_slip().norm() <= tolerance(j);
+    }
+    if (a.converged) return a;
+    for (size_t j = 0; j < cs.size(); ++j) {
+      NodeRecord& node = nodes[j];
+      node.shift = cs[j].kind == ConstraintKind::none ? 0.0 : std::max(0.0, node.shift - node.stiffness * cs[j].gap);
+      // Uzawa on the tangential multipliers: the traction becomes the new multiplier and the
+      // slip restarts from the current contact point (Simo & Laursen 1992).
+      if (friction && cs[j].kind != ConstraintKind::none && out.active[j] && cs[j].has_slip) {
+        node.traction_old = out.traction[j];
+        a.restart_slip.push_back(static_cast<Index>(j));
+      }
+    }
+    return a;
+  }
 };
 
 class LagrangeMultipliers final : public Enforcement {
@@ -208,11 +240,11 @@ class LagrangeMultipliers final : public Enforcement {
           release_tangential(s);
           continue;
         }
-        const Real c0 = (*in.stiffness)[j];
-        const int hold = in.forced ? (*in.forced)[j] : 0;
+        const Real c0 = (*in.nodes)[j].stiffness;
+        const Hold hold = (*in.nodes)[j].hold;
         // At the kink (lambda = 0, g = 0: a node that just touches) either branch is a valid
         // Newton derivative; closed lets a body held only by contact start from touching.
-        const bool active = hold > 0 || (hold == 0 && lambda - c0 * c.gap >= 0);
+        const bool active = held_closed(hold) || (hold == Hold::none && lambda - c0 * c.gap >= 0);
         out.active[j] = active;
         // Open: the multiplier row F = w lambda drives lambda to 0, and the node puts no force
         // on the bodies (the force is lambda on the active set only, as in the primal-dual
@@ -265,7 +297,8 @@ class LagrangeMultipliers final : public Enforcement {
                            const MatX& Q, const Index* tdof, std::vector<Index>& dofs, int m, VecX& residual, MatX* k,
                            EnforcementOutput& out) {
     const int dim = in.dim;
-    const Real w = c.weight, c0 = (*in.stiffness)[j], ct = (*in.tangential_stiffness)[j];
+    const NodeRecord& node = (*in.nodes)[j];
+    const Real w = c.weight, c0 = node.stiffness, ct = node.tangential_stiffness;
     const VecX nv = c.normal.head(dim);
     const MatX& D = c.slip_jacobian;
     const MatX P = MatX::Identity(dim, dim) - nv * nv.transpose();
@@ -275,7 +308,7 @@ class LagrangeMultipliers final : public Enforcement {
     const Vec3 q = v - c.normal * c.normal.dot(v);
     const Real p = lambda - c0 * c.gap;
     const Real bound = in.friction->bound(p), db = in.friction->bound_derivative(p);
-    const ReturnMap rm = return_map(q, bound, in.friction_hold ? (*in.friction_hold)[j] : 0);
+    const ReturnMap rm = return_map(q, bound, node.friction_hold);
     out.traction[j] = l3;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = q.norm() - bound;
@@ -298,6 +331,24 @@ class LagrangeMultipliers final : public Enforcement {
 };
 
 }  // namespace
+
+void Enforcement::begin_increment(std::vector<NodeRecord>& nodes) const {
+  // From the committed state: undoes what a failed attempt updated.
+  for (NodeRecord& node : nodes) {
+    node.shift = node.shift_committed;
+    node.traction_old = node.traction_committed;
+  }
+}
+
+void Enforcement::end_increment(const ConstraintSet& cs, const EnforcementOutput& out,
+                                std::vector<NodeRecord>& nodes) const {
+  for (size_t j = 0; j < nodes.size(); ++j) {
+    NodeRecord& node = nodes[j];
+    node.shift_committed = node.shift;
+    const bool closed = j < out.active.size() && out.active[j] && j < cs.size() && cs[j].has_slip;
+    node.traction_old = node.traction_committed = closed && j < out.traction.size() ? out.traction[j] : Vec3::Zero();
+  }
+}
 
 std::unique_ptr<Enforcement> make_enforcement(const std::string& method) {
   if (method == "penalty") return std::make_unique<Penalty>();

@@ -17,6 +17,7 @@
 
 #include "signorini/contact/constraint.hpp"
 #include "signorini/contact/friction/friction_law.hpp"
+#include "signorini/contact/pair_state.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
 
@@ -26,18 +27,14 @@ struct EnforcementInput {
   const ConstraintSet* constraints = nullptr;
   const DofMap* dofs = nullptr;
   int dim = 2;
-  const std::vector<Real>* stiffness = nullptr;  // per constraint: penalty, or the complementarity constant c
+  // Per constraint (the pair's slave nodes): penalty or complementarity constants, the
+  // augmented Lagrangian's lambda-bar, the committed friction traction, the chattering guard's
+  // holds (pair_state.hpp).
+  const std::vector<NodeRecord>* nodes = nullptr;
   Index multiplier_offset = -1;             // first multiplier unknown (Lagrange; with friction the
                                             // dim tangential ones of each constraint follow the normal ones)
-  const std::vector<signed char>* forced = nullptr;  // > 0 hold closed, < 0 hold open (chattering guard)
-  const std::vector<Real>* shift = nullptr;          // augmented Lagrangian: the multipliers lambda-bar
-  // Friction: the law, the tangential penalty (Lagrange: the tangential complementarity
-  // constant) and the committed tangential traction of each constraint (penalty); constraints
-  // with has_slip get the frictional force.
+  // Friction: the law; constraints with has_slip get the frictional force.
   const FrictionLaw* friction = nullptr;
-  const std::vector<Real>* tangential_stiffness = nullptr;
-  const std::vector<Vec3>* traction_old = nullptr;
-  const std::vector<signed char>* friction_hold = nullptr;  // per constraint: 0, 1 hold stick, 2 hold slip
   const std::vector<char>* fixed = nullptr;  // per unknown: 1 if a Dirichlet condition prescribes it
 };
 
@@ -49,14 +46,32 @@ struct EnforcementOutput {
   std::vector<Real> cone_excess;  // friction: |t_trial| - bound (> 0: outside the disc)
 };
 
+// What an augmentation (Uzawa update) did.
+struct Augmentation {
+  bool converged = true;            // within the gap tolerance: no update, the increment is done
+  Real max_penetration = 0;
+  std::vector<Index> restart_slip;  // friction: constraints whose slip origin moves to the current contact point
+};
+
+// The enforcement lifecycle, on the pair's node records: begin_increment (from the committed
+// state), assemble at every Newton iteration, augment after a converged Newton solve (the
+// augmented Lagrangian's Uzawa update; Newton goes on if it updated), end_increment once the
+// increment is accepted.
 class Enforcement {
  public:
   virtual ~Enforcement() = default;
   virtual std::string name() const = 0;
   virtual bool uses_multipliers() const = 0;
   virtual bool symmetric() const = 0;
+  virtual void begin_increment(std::vector<NodeRecord>& nodes) const;
   virtual void assemble(const EnforcementInput& in, const VecX& z, VecX& residual, GlobalMatrix* K,
                         EnforcementOutput& out) const = 0;
+  // gap_tolerance: the largest accepted penetration (0: 1e-3 of each node's facet size).
+  virtual Augmentation augment(const ConstraintSet&, const EnforcementOutput&, bool /*friction*/, Real /*gap_tolerance*/,
+                               std::vector<NodeRecord>&) const {
+    return {};
+  }
+  virtual void end_increment(const ConstraintSet& cs, const EnforcementOutput& out, std::vector<NodeRecord>& nodes) const;
 };
 
 std::unique_ptr<Enforcement> make_enforcement(const std::string& method);

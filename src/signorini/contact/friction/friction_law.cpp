@@ -37,10 +37,10 @@ class Frictionless final : public FrictionLaw {
 
 }  // namespace
 
-ReturnMap return_map(const Vec3& trial, Real bound, int hold) {
+ReturnMap return_map(const Vec3& trial, Real bound, StickSlip hold) {
   ReturnMap r;
   const Real norm = trial.norm();
-  if (hold == 1 || (hold != 2 && norm <= bound) || (hold == 2 && norm == 0)) {  // stick
+  if (hold == StickSlip::stick || (hold != StickSlip::slip && norm <= bound) || (hold == StickSlip::slip && norm == 0)) {  // stick
     r.traction = trial;
     r.d_trial = Mat3::Identity();
     return r;

@@ -13,6 +13,10 @@ namespace signorini {
 
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
 
+// A closed node's friction status, or the branch a hold imposes (none: open, frictionless, or
+// no hold).
+enum class StickSlip : signed char { none, stick, slip };
+
 struct ReturnMap {
   Vec3 traction = Vec3::Zero();   // the admissible traction
   bool slip = false;              // the trial traction was outside the disc
@@ -31,9 +35,9 @@ class FrictionLaw {
 
 // Projection of `trial` onto the disc of radius `bound` (bound >= 0). At the cone apex
 // (bound = 0) the traction is zero and counts as slip. `hold` (the chattering guard) imposes
-// the branch: 1 stick (traction = trial, even outside the disc), 2 slip (traction on the
-// rim in the trial's direction, even from inside); 0 chooses by |trial| <= bound.
-ReturnMap return_map(const Vec3& trial, Real bound, int hold = 0);
+// the branch: stick (traction = trial, even outside the disc), slip (traction on the rim in
+// the trial's direction, even from inside); none chooses by |trial| <= bound.
+ReturnMap return_map(const Vec3& trial, Real bound, StickSlip hold = StickSlip::none);
 
 // law: "coulomb" (parameter mu), "tresca" (parameter: the bound), "none".
 std::unique_ptr<FrictionLaw> make_friction_law(const std::string& law, Real parameter);

@@ -1,0 +1,206 @@
+#include "signorini/contact/discretization/discretization.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "signorini/contact/discretization/node_to_segment.hpp"
+#include "signorini/contact/discretization/rigid_obstacle.hpp"
+#include "signorini/contact/search/search.hpp"
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+SlipOrigin Discretization::origin(const Constraint& c, const Vec3&, const VecX&) const {
+  // A deformable master: the master point as the combination of master nodes that c found.
+  SlipOrigin o;
+  o.valid = c.kind != ConstraintKind::none;
+  for (size_t k = 0; k < c.master_weights.size() && o.valid; ++k) o.nodes.emplace_back(c.nodes[k + 1], c.master_weights[k]);
+  return o;
+}
+
+void Discretization::add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX&, Constraint& c) const {
+  // d = x_s - sum_k w_k x_k over the origin's nodes; nodes c does not hold yet are appended
+  // (with zero gap derivatives).
+  const int dim = static_cast<int>(c.normal_jacobian.rows());
+  for (auto [node, w] : o.nodes) {
+    if (std::find(c.nodes.begin(), c.nodes.end(), node) != c.nodes.end()) continue;
+    const Index old = c.grad.size();  // no extra DOFs on a deformable master
+    c.nodes.push_back(node);
+    c.grad.conservativeResize(old + dim);
+    c.grad.tail(dim).setZero();
+    c.hess.conservativeResize(old + dim, old + dim);
+    c.hess.rightCols(dim).setZero();
+    c.hess.bottomRows(dim).setZero();
+    c.normal_jacobian.conservativeResize(dim, old + dim);
+    c.normal_jacobian.rightCols(dim).setZero();
+  }
+  c.slip_jacobian.setZero(dim, c.grad.size());
+  c.slip = x[c.slave];
+  for (int d = 0; d < dim; ++d) c.slip_jacobian(d, d) = 1;
+  for (auto [node, w] : o.nodes) {
+    c.slip -= w * x[node];
+    const Index k = std::find(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin();
+    for (int d = 0; d < dim; ++d) c.slip_jacobian(d, k * dim + d) -= w;
+  }
+  c.has_slip = true;
+}
+
+namespace {
+
+// A deformable master surface and its global search: the closest master facet of each slave
+// node (the candidate) within dmax.
+class DeformableMaster : public Discretization {
+ public:
+  DeformableMaster(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, int dim)
+      : slave_(slave), dim_(dim), search_(make_search(s.search)) {
+    master_ = make_master_surface(mesh, s.master);
+    if (s.smoothing == "hermite") smooth_master_surface(master_, mesh.nodes);
+    facets_.corners = dim == 2 ? 2 : element_info(master_.type.empty() ? ElementType::tri3 : master_.type[0]).num_corners;
+    for (ElementType t : master_.type)
+      if (element_info(t).num_corners != facets_.corners)
+        throw Error("contact '" + s.name + "': the master surface '" + s.master +
+                    "' mixes triangles and quadrilaterals, which the search does not support yet");
+    candidate_.assign(slave_.nodes.size(), -1);
+  }
+
+ protected:
+  // The closest facet of each slave node within dmax (-1: none).
+  void search(const std::vector<Vec3>& x, Real dmax, std::vector<Index>& facet) {
+    const int nc = facets_.corners;
+    facets_.points.resize(master_.size() * nc);
+    for (Index f = 0; f < master_.size(); ++f)
+      for (int k = 0; k < nc; ++k) facets_.points[f * nc + k] = x[master_.facets[f][k]];
+    search_->build(facets_);
+    std::vector<Vec3> pts(slave_.nodes.size());
+    for (size_t j = 0; j < pts.size(); ++j) pts[j] = x[slave_.nodes[j]];
+    std::vector<SearchHit> hits;
+    search_->closest(pts, dmax, hits);
+    facet.resize(pts.size());
+    for (size_t j = 0; j < pts.size(); ++j) facet[j] = hits[j].facet;
+  }
+
+  SlaveSurface slave_;
+  int dim_;
+  MasterSurface master_;
+  std::unique_ptr<ContactSearch> search_;
+  SearchFacets facets_;
+  std::vector<Index> candidate_;  // per slave node: master facet (node-to-segment) or node (node-to-node)
+};
+
+class NodeToSegment final : public DeformableMaster {
+ public:
+  using DeformableMaster::DeformableMaster;
+  std::string name() const override { return "node_to_segment"; }
+  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+    std::vector<Index> facet;
+    search(x, dmax, facet);
+    // A node in contact keeps being tracked even if it moved beyond d_max.
+    for (size_t j = 0; j < facet.size(); ++j)
+      if (facet[j] >= 0 || !(tracked[j] && candidate_[j] >= 0)) candidate_[j] = facet[j];
+  }
+  void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
+    nodes.assign(1, slave_.nodes[j]);
+    if (candidate_[j] < 0) return;
+    std::set<Index> around;
+    for (Index f : master_.neighbourhood(candidate_[j]))
+      for (Index n : master_.basis_nodes(f)) around.insert(n);
+    nodes.insert(nodes.end(), around.begin(), around.end());
+  }
+  void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
+    node_to_segment(master_, slave_, x, dim_, candidate_, out);
+  }
+};
+
+class NodeToNode final : public DeformableMaster {
+ public:
+  NodeToNode(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, int dim)
+      : DeformableMaster(s, mesh, slave, dim), normal_(slave.nodes.size(), Vec3::Zero()) {}
+  std::string name() const override { return "node_to_node"; }
+  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+    std::vector<Index> facet;
+    search(x, dmax, facet);
+    for (size_t j = 0; j < facet.size(); ++j) {
+      const Index f = facet[j];
+      if (f < 0) {
+        if (!(tracked[j] && candidate_[j] >= 0)) candidate_[j] = -1;
+        continue;
+      }
+      // The nearest corner of the closest facet, with its normal frozen until the next search.
+      const Vec3& p = x[slave_.nodes[j]];
+      Index best = -1;
+      Real bd = 1e300;
+      for (int k = 0; k < master_.corners(f); ++k) {
+        const Index m = master_.facets[f][k];
+        const Real d = (x[m] - p).norm();
+        if (d < bd) bd = d, best = m;
+      }
+      candidate_[j] = best;
+      normal_[j] = master_.node_normal(best, x, dim_);
+    }
+  }
+  void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
+    nodes.assign(1, slave_.nodes[j]);
+    if (candidate_[j] >= 0) nodes.push_back(candidate_[j]);
+  }
+  void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
+    node_to_node(slave_, candidate_, normal_, x, dim_, out);
+  }
+
+ private:
+  std::vector<Vec3> normal_;  // per slave node: the master node's normal, frozen at detection
+};
+
+// A rigid analytic obstacle, displaced by its own dim unknowns: no search, no master nodes.
+class RigidObstacleContact final : public Discretization {
+ public:
+  RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim) : ob_(ob), slave_(slave), dim_(dim) {}
+  std::string name() const override { return "rigid_obstacle"; }
+  void detect(const std::vector<Vec3>&, Real, const std::vector<char>&) override {}
+  void coupled_nodes(size_t j, std::vector<Index>& nodes) const override { nodes.assign(1, slave_.nodes[j]); }
+  int num_extra_dofs() const override { return dim_; }
+  void set_extra_dofs(Index first) override { first_ = first; }
+  Index extra_dofs() const override { return first_; }
+  void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const override {
+    rigid_obstacle_constraints(ob_, offset(z), first_, slave_, x, dim_, std::max(dmax, 1e-300), out);
+  }
+  SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const override {
+    // The closest point of the obstacle, in the obstacle's frame (it moves with its offset).
+    SlipOrigin o;
+    o.valid = c.kind != ConstraintKind::none;
+    o.point = x_s - offset(z) - c.gap * c.normal;
+    return o;
+  }
+  void add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX& z, Constraint& c) const override {
+    c.slip = x[c.slave] - (o.point + offset(z));
+    c.slip_jacobian.setZero(dim_, c.grad.size());
+    for (int d = 0; d < dim_; ++d) {
+      c.slip_jacobian(d, d) = 1;
+      if (first_ >= 0) c.slip_jacobian(d, static_cast<Index>(c.nodes.size()) * dim_ + d) = -1;
+    }
+    c.has_slip = true;
+  }
+
+ private:
+  Vec3 offset(const VecX& z) const {
+    Vec3 o = Vec3::Zero();
+    if (first_ >= 0)
+      for (int d = 0; d < dim_; ++d) o(d) = z(first_ + d);
+    return o;
+  }
+  RigidObstacle ob_;
+  SlaveSurface slave_;
+  int dim_;
+  Index first_ = -1;
+};
+
+}  // namespace
+
+std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
+                                                    const SlaveSurface& slave, int dim) {
+  if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim);
+  if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
+  if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
+  throw Error("contact '" + s.name + "': unknown discretization '" + s.discretization + "'");
+}
+
+}  // namespace signorini

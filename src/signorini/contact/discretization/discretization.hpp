@@ -1,0 +1,62 @@
+// The discretization seam (DESIGN.md, "the one idea that keeps contact simple"): a contact
+// pair's discretization owns its kinematics. It finds the master each slave node may touch
+// (global search), builds one Constraint per slave node at the current positions (gap, normal,
+// their first and second variations, the master point as a combination of master nodes), and
+// measures friction's slip from the master material point where the node touched at the start
+// of the increment. Enforcement reads the ConstraintSet only, so a discretization plugs in
+// without touching it (docs/architecture.md, "Contact, one class per stage").
+//
+// Implementations: node-to-segment (with node-to-edge and node-to-vertex), node-to-node, and a
+// rigid analytic obstacle. Mortar adds weighted gaps and slips per slave node (its D and M
+// blocks enter `grad`, `slip_jacobian` and `normal_jacobian`), Nitsche a traction term; neither
+// needs a change in ContactInterface or in enforcement.
+#pragma once
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "signorini/contact/constraint.hpp"
+#include "signorini/contact/contact_settings.hpp"
+#include "signorini/contact/surface.hpp"
+
+namespace signorini {
+
+// Where a slave node's slip is measured from: the master material point it touched at the
+// start of the increment (or at the last Uzawa update of the augmented Lagrangian).
+struct SlipOrigin {
+  bool valid = false;
+  std::vector<std::pair<Index, Real>> nodes;  // deformable master: master nodes and their weights
+  Vec3 point = Vec3::Zero();                  // rigid obstacle: the point in the obstacle's frame
+};
+
+class Discretization {
+ public:
+  virtual ~Discretization() = default;
+  virtual std::string name() const = 0;
+  // Global search at positions x, within dmax of the master; tracked[j]: slave node j was
+  // closed at the last accepted iterate (a discretization may keep tracking it beyond dmax).
+  virtual void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) = 0;
+  // The mesh nodes whose DOFs constraint j may involve until the next detect (slave first;
+  // the sparse pattern). Extra unknowns are listed by extra_dofs().
+  virtual void coupled_nodes(size_t j, std::vector<Index>& nodes) const = 0;
+  // Unknowns of the discretization beyond the nodes' DOFs (a rigid obstacle's displacement).
+  virtual int num_extra_dofs() const { return 0; }
+  virtual void set_extra_dofs(Index /*first*/) {}
+  virtual Index extra_dofs() const { return -1; }
+  // One constraint per slave node at positions x and unknowns z: kind, gap, normal, grad,
+  // hess, normal_jacobian and master_weights (open constraints beyond dmax).
+  virtual void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const = 0;
+  // The slip origin of a constrained node: the master point of c, the slave at x_s.
+  virtual SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const;
+  // Friction kinematics of c from its origin: d = x_s - x_0 and D = dd/dz (Constraint::slip,
+  // slip_jacobian); origin nodes c does not involve yet are appended to it.
+  virtual void add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX& z, Constraint& c) const;
+};
+
+// The discretization the settings name (a rigid obstacle when s.rigid), for the given slave
+// surface; the master surface is built from the mesh.
+std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
+                                                    const SlaveSurface& slave, int dim);
+
+}  // namespace signorini

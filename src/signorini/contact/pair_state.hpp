@@ -1,0 +1,54 @@
+// The state a contact pair keeps per slave node between Newton iterations and increments, as
+// named records (one per slave node, in the slave surface's order): the enforcement's
+// parameters and multipliers (penalty, complementarity constants, the augmented Lagrangian's
+// lambda-bar, the committed friction traction), the chattering guard's holds, and friction's
+// slip origin and slip record. Enforcement reads and updates it through its lifecycle
+// (enforcement.hpp); ContactInterface owns one per pair.
+#pragma once
+#include <vector>
+
+#include "signorini/contact/discretization/discretization.hpp"
+#include "signorini/contact/friction/friction_law.hpp"
+#include "signorini/core/types.hpp"
+
+namespace signorini {
+
+// The chattering guard's hold on a node's open/closed status within an increment.
+enum class Hold : signed char {
+  none,      // free: the enforcement decides
+  closed,    // held closed (changed status more than max_flips times)
+  open,      // held open
+  released,  // was held closed, ended in tension: held open for the rest of the increment
+};
+inline bool held_closed(Hold h) { return h == Hold::closed; }
+inline bool held_open(Hold h) { return h == Hold::open || h == Hold::released; }
+
+struct NodeRecord {
+  // Set once, from the mesh and the settings.
+  Real size = 0;                  // local slave facet size h (mean edge of the node's facets)
+  Real stiffness = 0;             // penalty, or the normal complementarity constant c
+  Real tangential_stiffness = 0;  // tangential penalty, or the tangential complementarity constant c_T
+  // Augmented Lagrangian: the multiplier lambda-bar, current and at the last converged increment.
+  Real shift = 0, shift_committed = 0;
+  // Chattering guard, reset at each increment: open/closed changes, the status at the last
+  // accepted iterate and at the last converged increment, the hold.
+  int flips = 0;
+  bool last_closed = false, committed_closed = false;
+  Hold hold = Hold::none;
+  // The same for stick/slip of a closed node; `swapped`: a hold already turned once to the
+  // other status (fix_held_nodes).
+  int friction_flips = 0;
+  bool last_slip = false, swapped = false;
+  StickSlip friction_hold = StickSlip::none;
+  StickSlip committed_friction = StickSlip::none;
+  // Friction: where the slip of the increment is measured from, the tangential traction the
+  // return map starts from (penalty; the committed one, or the augmented Lagrangian's last
+  // update) and the committed one, and the slip record for output.
+  SlipOrigin origin;
+  Vec3 traction_old = Vec3::Zero(), traction_committed = Vec3::Zero();
+  Real slip_increment = 0, slip_accumulated = 0;
+  // The pressure reported for output (ContactInterface::set_reported_pressure).
+  Real reported_pressure = 0;
+};
+
+}  // namespace signorini
