@@ -1,0 +1,271 @@
+// The finite-difference tangent grid: for every combination the compatibility table allows
+// (contact/compatibility.hpp: analysis x slave and master facets x discretization, one or two
+// passes, rigid plane/cylinder/sphere x enforcement x friction x smoothing), the contact
+// residual's tangent against central differences of the residual, at a state with open and
+// closed slave nodes (and, with friction, an increment's tangential motion from the slip
+// origins), through the pair's whole lifecycle (detect, begin_increment, assemble, and for the
+// augmented Lagrangian one Uzawa update). Adding a discretization or an enforcement to the
+// table adds its cases here.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "common.hpp"
+#include "signorini/contact/compatibility.hpp"
+#include "signorini/contact/contact_interface.hpp"
+
+using namespace signorini;
+using signorini::test::DenseMatrix;
+
+namespace {
+
+// The cell type whose faces are the given facet type.
+ElementType cell_of(ElementType facet) {
+  switch (facet) {
+    case ElementType::line2: return ElementType::quad4;
+    case ElementType::line3: return ElementType::quad9;
+    case ElementType::tri3: return ElementType::tet4;
+    case ElementType::tri6: return ElementType::tet10;
+    case ElementType::quad4: return ElementType::hex8;
+    case ElementType::quad8: return ElementType::hex20;
+    default: return ElementType::hex27;
+  }
+}
+
+// One combination (ASSERTs return from here; the failure names the combination).
+void check_combination(const ContactCombination& c) {
+  SCOPED_TRACE(c.text());
+  const bool three = c.dimension == Dimension::three_d;
+  const bool ntn = c.discretization == "node_to_node";
+  const int vert = three ? 2 : 1;
+  // Two blocks (the upper one's bottom is slave, non-matching unless node-to-node, shifted so
+  // that no slave node sits on a master facet's edge), or one block under a rigid obstacle.
+  Mesh mesh;
+  std::string moving;
+  if (c.rigid()) {
+    const ElementType t = cell_of(c.slave_facet);
+    mesh = three ? structured_box(t, 3, 3, 1, 1.0, 1.0, 0.5) : structured_rectangle(t, 4, 1, 1.0, 0.5);
+    moving = "domain";
+  } else {
+    const Vec3 off = three ? Vec3(ntn ? 0 : 0.02, ntn ? 0 : 0.03, 0.49) : Vec3(0, 0.49, 0);
+    const int nl = three ? 2 : 3, nu = ntn ? nl : nl + 1;
+    mesh = test::two_blocks(cell_of(c.master_facet), nl, nu, 1.0, 0.5, off, three, cell_of(c.slave_facet), 1);
+    moving = "upper_domain";
+    // In 3D the shifted upper block is shrunk in x and y so that no slave node overhangs the
+    // master's edge (where the constraint switches between segment, edge and none: kinks).
+    if (three && !ntn)
+      for (Index n : mesh.node_sets.at(moving))
+        for (int d = 0; d < 2; ++d) mesh.nodes[n](d) = 0.05 + 0.9 * mesh.nodes[n](d);
+  }
+  orient_facets(mesh);
+  AnalysisSettings as;
+  as.dimension = c.dimension;
+  const int dim = as.spatial_dim();
+  std::vector<const ElementBlock*> cells;
+  for (auto& [n, blocks] : mesh.regions)
+    for (auto& b : blocks) cells.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), dim, cells);
+  const Index nd = dofs.num_dofs();
+
+  ContactPairSettings cs;
+  cs.name = "c";
+  cs.method = c.method;
+  cs.passes = c.passes;
+  cs.smoothing = c.smoothing;
+  cs.friction = c.friction;
+  cs.friction_parameter = c.friction == "coulomb" ? 0.3 : 0.05;
+  if (c.rigid()) {
+    cs.rigid = true;
+    cs.slave = three ? "zmax" : "ymax";
+    RigidObstacle& ob = cs.obstacle;
+    ob.shape = c.discretization.substr(6);
+    if (ob.shape == "plane") {
+      ob.point = three ? Vec3(0, 0, 0.505) : Vec3(0, 0.505, 0);
+      ob.normal = -Vec3::Unit(vert);
+    } else {
+      // Axisymmetric: the sphere's centre on the axis (r = 0).
+      const Real cx = c.dimension == Dimension::axisymmetric ? 0.0 : 0.5;
+      ob.point = three ? Vec3(0.5, 0.5, 1.5) : Vec3(cx, 1.5, 0);
+      ob.radius = 1.0;
+      ob.axis = Vec3::UnitY();
+    }
+  } else {
+    cs.discretization = c.discretization;
+    cs.master = three ? "lower_zmax" : "lower_ymax";
+    cs.slave = three ? "upper_zmin" : "upper_ymin";
+  }
+  ASSERT_TRUE(check_contact_combination(c).message.empty());
+
+  // Start of the increment: the slave side pressed in (a wave, so some nodes open); then a
+  // tangential motion of varying size.
+  const Index nu = nd + (c.rigid() ? dim : 0);
+  VecX z0 = VecX::Zero(nu);
+  for (Index n : mesh.node_sets[moving]) {
+    const Vec3& X = mesh.nodes[n];
+    z0(dofs.dof(n, vert)) = (c.rigid() ? 1 : -1) * (0.004 + 0.008 * std::sin(7 * X(0) + 3 * X(1)));
+  }
+  if (c.rigid()) z0(nu - 1) = c.discretization == "rigid_plane" ? 0.0 : -0.04;
+  if (c.smoothing != "none") {
+    // A curved master, so that smoothing differs from the faceted surface.
+    for (Index n : mesh.node_sets.at("lower_domain")) {
+      const Vec3& X = mesh.nodes[n];
+      z0(dofs.dof(n, vert)) += 0.03 * std::sin(9 * X(0)) * X(vert);
+    }
+  }
+  VecX z = z0;
+  for (Index n : mesh.node_sets[moving]) {
+    const Vec3& X = mesh.nodes[n];
+    z(dofs.dof(n, 0)) += 0.004 * std::cos(5 * X(0) + 2 * X(vert)) + 0.002;
+    if (three) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
+  }
+  if (c.rigid()) z(nu - dim) = 0.003;
+
+  // Tangential stiffness: automatic first; others until some closed nodes stick and others slip.
+  const std::vector<Real> tangential =
+      c.friction == "none" ? std::vector<Real>{0.0} : std::vector<Real>{0.0, 4000.0, 250.0, 64000.0, 30.0};
+  for (size_t attempt = 0; attempt < tangential.size(); ++attempt) {
+    cs.tangential_penalty = tangential[attempt];
+    std::vector<std::unique_ptr<ContactInterface>> pairs;
+    pairs.push_back(std::make_unique<ContactInterface>(cs, mesh, as, 100.0, false));
+    if (c.passes == 2) pairs.push_back(std::make_unique<ContactInterface>(cs, mesh, as, 100.0, true));
+    Index nm = 0;
+    for (auto& p : pairs) {
+      p->set_multiplier_offset(nd + nm);
+      nm += p->num_multipliers();
+    }
+    for (auto& p : pairs) p->set_obstacle_dofs(nd + nm);
+    const Index nz = nu + nm;
+    // Unknowns: displacements, multipliers (per pair: normal, then dim tangential per slave
+    // node) with pressures of both signs and tractions of varying size, the obstacle's motion.
+    auto with_multipliers = [&](const VecX& u) {
+      VecX zz = VecX::Zero(nz);
+      zz.head(nd) = u.head(nd);
+      zz.tail(nu - nd) = u.tail(nu - nd);
+      for (auto& p : pairs) {
+        const Index ns = p->num_multipliers() / (p->frictional() ? 1 + dim : 1);
+        for (Index j = 0; j < ns; ++j) {
+          zz(p->multiplier_offset() + j) = 0.6 * (j % 3) - 0.2;
+          if (p->frictional())
+            for (int d = 0; d < dim; ++d) zz(p->multiplier_offset() + ns + j * dim + d) = 0.15 * std::sin(2.0 * j + d);
+        }
+      }
+      return zz;
+    };
+    const VecX zs = with_multipliers(z0);
+    for (auto& p : pairs) {
+      p->detect(test::cells_of_positions(mesh, dofs, zs), 0.05);
+      p->begin_increment(test::cells_of_positions(mesh, dofs, zs), zs);
+    }
+    auto residual = [&](const VecX& zz, GlobalMatrix* K) {
+      VecX r = VecX::Zero(nz);
+      for (auto& p : pairs) p->assemble(test::cells_of_positions(mesh, dofs, zz), zz, dofs, r, K);
+      return r;
+    };
+    VecX zc = with_multipliers(z);
+    if (c.method == "augmented_lagrangian") {
+      // One Uzawa update (lambda-bar, and with friction the tractions and slip origins), then
+      // the check at a state moved further.
+      residual(zc, nullptr);
+      bool updated = false;
+      for (auto& p : pairs) {
+        Real pen = 0;
+        updated = !p->augment(test::cells_of_positions(mesh, dofs, zc), zc, pen) || updated;
+      }
+      ASSERT_TRUE(updated) << "no Uzawa update: the augmented Lagrangian's multipliers would be zero";
+      // Nowhere zero, and pressing further: a node that stays put sits on the rim of the Tresca
+      // disc (it slipped at the update), one that only slides on a flat master at p = 0 (the
+      // update made lambda-bar its force), both kinks.
+      for (Index n : mesh.node_sets[moving]) {
+        zc(dofs.dof(n, 0)) += 0.002 * (1.5 + std::sin(9 * mesh.nodes[n](0)));
+        zc(dofs.dof(n, vert)) += (c.rigid() ? 1 : -1) * 0.00137;
+      }
+    }
+    DenseMatrix K(nz);
+    residual(zc, &K);
+    Index closed = 0, open = 0, stick = 0, slip = 0;
+    for (auto& p : pairs)
+      for (size_t j = 0; j < p->constraints().size(); ++j) {
+        if (p->constraints()[j].kind == ConstraintKind::none) continue;
+        p->state().active[j] ? ++closed : ++open;
+        if (p->frictional() && p->state().active[j] && p->constraints()[j].has_slip)
+          p->state().slip[j] ? ++slip : ++stick;
+      }
+    ASSERT_GT(closed, 0) << "no closed node: the check would be empty";
+    const bool mixed = c.friction == "none" || (stick > 0 && slip > 0);
+    if (!mixed && attempt + 1 < tangential.size()) continue;
+    // The unknowns the contact residual depends on (the others' columns are zero).
+    std::set<Index> involved;
+    for (auto& p : pairs) {
+      std::vector<std::vector<Index>> groups;
+      p->couplings(dofs, groups);
+      for (auto& g : groups)
+        for (Index i : g)
+          if (i >= 0) involved.insert(i);
+    }
+    const Real h = 1e-7;
+    Real err = 0;
+    for (Index j : involved) {
+      VecX zp = zc, zm = zc;
+      zp(j) += h;
+      zm(j) -= h;
+      const VecX d = -(residual(zp, nullptr) - residual(zm, nullptr)) / (2 * h);
+      Index row = 0;
+      const Real e = (d - K.k.col(j)).cwiseAbs().maxCoeff(&row);
+      if (e > err && std::getenv("SIGNORINI_TEST_VERBOSE"))
+        std::printf("  column %lld row %lld: FD %.6e tangent %.6e (one-sided %.6e %.6e)\n", (long long)j, (long long)row,
+                    d(row), K.k(row, j), -(residual(zp, nullptr) - residual(zc, nullptr))(row) / h,
+                    -(residual(zc, nullptr) - residual(zm, nullptr))(row) / h);
+      err = std::max(err, e);
+    }
+    const Real maxk = K.k.cwiseAbs().maxCoeff();
+    std::printf("%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
+                c.text().c_str(), (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
+                maxk);
+    EXPECT_LT(err, 1e-6 * maxk) << c.text();
+    break;
+  }
+}
+
+}  // namespace
+
+// One test over the whole table (one process: a ctest process per combination would cost
+// 0.3 s each in start-up alone); the log has a line per combination.
+TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
+  const auto all = supported_contact_combinations();
+  ASSERT_GT(all.size(), 100u);
+  for (const ContactCombination& c : all) check_combination(c);
+}
+
+TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
+  // Each rule excludes at least one combination, with its own message; supported ones pass.
+  ContactCombination tri6;
+  tri6.dimension = Dimension::three_d;
+  tri6.slave_facet = tri6.master_facet = ElementType::tri6;
+  EXPECT_NE(check_contact_combination(tri6).message.find("tri6"), std::string::npos);
+  ContactCombination sphere;
+  sphere.discretization = "rigid_sphere";
+  EXPECT_EQ(check_contact_combination(sphere).key, "master.rigid");
+  sphere.dimension = Dimension::axisymmetric;
+  EXPECT_TRUE(check_contact_combination(sphere).message.empty());
+  ContactCombination ntn;
+  ntn.discretization = "node_to_node";
+  ntn.slave_facet = ntn.master_facet = ElementType::line3;
+  EXPECT_EQ(check_contact_combination(ntn).key, "discretization");
+  ContactCombination two;
+  two.passes = 2;
+  two.friction = "coulomb";
+  EXPECT_EQ(check_contact_combination(two).key, "friction");
+  ContactCombination smooth;
+  smooth.smoothing = "hermite";
+  smooth.master_facet = ElementType::line3;
+  EXPECT_NE(check_contact_combination(smooth).message.find("line2"), std::string::npos);
+  // The supported list has no duplicates and is what the table allows.
+  const auto all = supported_contact_combinations();
+  std::set<std::string> names;
+  for (const auto& c : all) {
+    EXPECT_TRUE(check_contact_combination(c).message.empty()) << c.text();
+    names.insert(c.text());
+  }
+  EXPECT_EQ(names.size(), all.size());
+  EXPECT_NE(contact_compatibility_text().find(std::to_string(all.size()) + " combinations"), std::string::npos);
+}
