@@ -1,5 +1,6 @@
 #include "signorini/solver/condensed_solve.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "signorini/core/error.hpp"
@@ -103,7 +104,21 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   Kr.makeCompressed();
   const VecX rr = T.transpose() * (r - J * z0);
   VecX ur;
-  solver_.reset();  // the reduced pattern follows the active set
+  // The reduced pattern follows the active set and the pivots: the symbolic factorization is
+  // kept while the pattern is the same as at the last solve (most Newton iterations once the
+  // active set has settled) and redone when it changed.
+  const bool same_pattern =
+      Kr.rows() == pattern_rows_ &&
+      std::equal(Kr.outerIndexPtr(), Kr.outerIndexPtr() + Kr.outerSize() + 1, pattern_outer_.begin(),
+                 pattern_outer_.end()) &&
+      std::equal(Kr.innerIndexPtr(), Kr.innerIndexPtr() + Kr.nonZeros(), pattern_inner_.begin(), pattern_inner_.end());
+  if (!same_pattern) {
+    solver_.reset();
+    pattern_rows_ = Kr.rows();
+    pattern_outer_.assign(Kr.outerIndexPtr(), Kr.outerIndexPtr() + Kr.outerSize() + 1);
+    pattern_inner_.assign(Kr.innerIndexPtr(), Kr.innerIndexPtr() + Kr.nonZeros());
+    ++analyses_;
+  }
   solver_.solve(Kr, symmetric, rr, ur);
   dz = T * ur + z0;
   // Closed multipliers from their pivots' rows (dz holds 0 for them so far).

@@ -23,10 +23,16 @@ class CondensedContactSolver {
   bool solve(const SparseMatrix& J, const std::vector<char>& is_multiplier, bool symmetric, const VecX& r, VecX& dz);
   std::string last_used() const { return solver_.last_used(); }
   std::string why_not() const { return why_not_; }
+  // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
+  int analyses() const { return analyses_; }
 
  private:
   AutoLinearSolver solver_;
   std::string why_not_;
+  // The reduced system's pattern at the last solve (its symbolic factorization is reused).
+  Index pattern_rows_ = -1;
+  std::vector<int> pattern_outer_, pattern_inner_;
+  int analyses_ = 0;
 };
 
 }  // namespace signorini
