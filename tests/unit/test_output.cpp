@@ -114,6 +114,48 @@ TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/contact_pair_one.pvd"));
 }
 
+namespace {
+// Elastic, with one history value that starts at 2 (the material's initial state) and counts
+// the converged increments: the analysis owns, initialises and commits it, the VTU names it.
+class IncrementCounter final : public Material {
+ public:
+  std::string model() const override { return "increment_counter"; }
+  int history_size() const override { return 1; }
+  void initialize_history(Real* h) const override { h[0] = 2; }
+  std::vector<std::string> history_names() const override { return {"increments_seen"}; }
+  void compute(const MaterialInput& in, Vec6& s, Mat6& d) const override {
+    d = isotropic_elasticity(50, 40);
+    s = d * in.strain;
+    in.history_new[0] = in.history_old[0] + 1;  // every evaluation of the trial state: old + 1
+  }
+  Real stiffness_scale() const override { return 100; }
+};
+}  // namespace
+
+TEST(Output, HistoryFieldsByTheMaterialsNames) {
+  Model m = test::two_block_model(std::make_shared<IncrementCounter>(), std::make_shared<LinearElastic>(100, 0.3));
+  Step st;
+  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
+                  test::fix("upper_ymax", 1, -0.01), test::fix("upper_ymin", 0), test::fix("upper_ymin", 1)};
+  st.initial_increment = st.max_increment = 0.5;  // two increments
+  m.steps = {st};
+  const std::string dir = (std::filesystem::temp_directory_path() / "signorini_history_output").string();
+  std::filesystem::remove_all(dir);
+  ResultsWriter w(m, dir);
+  Analysis a(m);
+  EXPECT_EQ(a.history(0).committed_values().front(), 2) << "not initialised by the material";
+  w.write_initial(a);
+  a.on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
+  ASSERT_TRUE(a.run().completed);
+  ASSERT_EQ(a.summary().increments.size(), 2u);
+  // Committed twice, each time old + 1 from the committed value: 2 + 2.
+  EXPECT_EQ(a.history(0).committed_values().front(), 4);
+  EXPECT_TRUE(a.history(1).empty());
+  std::ifstream vtu(dir + "/increment_01_0002.vtu");
+  const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Name=\"increments_seen\""), std::string::npos);
+}
+
 // The radius of a 3D contact or stick zone (check component r): the threshold with the
 // fewest nodes on the wrong side.
 TEST(Checks, SeparatingRadiusIsTheBestThreshold) {

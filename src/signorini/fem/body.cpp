@@ -11,8 +11,6 @@ namespace signorini {
 Body::Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<const Material> material,
            AnalysisSettings settings)
     : name_(std::move(name)), blocks_(std::move(blocks)), material_(std::move(material)), settings_(settings) {
-  Index offset = 0;
-  const int hs = material_ ? material_->history_size() : 0;
   for (auto& b : blocks_) {
     BlockCache c;
     c.rule = quadrature_rule(b.type, default_quadrature_degree(b.type));
@@ -23,12 +21,8 @@ Body::Body(std::string name, std::vector<ElementBlock> blocks, std::shared_ptr<c
       c.N.push_back(N);
       c.dN.push_back(dN);
     }
-    c.history_offset = offset;
-    offset += b.size() * static_cast<Index>(c.rule.size()) * hs;
     caches_.push_back(std::move(c));
   }
-  history_.assign(offset, 0.0);
-  trial_ = history_;
 }
 
 Index Body::num_cells() const {
@@ -208,14 +202,14 @@ void gather(const ElementBlock& b, Index e, const std::vector<Vec3>& X, const Ve
 }
 }  // namespace
 
-void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint,
-                    GlobalMatrix* matrix) {
+void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
+                    QuadratureHistory* history) const {
   if (rigid()) return;  // no strain energy; its nodes move with the reference node
   const int hs = material_->history_size();
+  if (hs && (!history || history->per_point() != hs))
+    throw Error("body " + name_ + ": its material has history variables and needs their storage");
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
     const ElementBlock& b = blocks_[bi];
-    const BlockCache& c = caches_[bi];
-    const Index nq = static_cast<Index>(c.rule.size());
     std::string failure;
 #pragma omp parallel
     {
@@ -227,8 +221,7 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
       for (Index e = 0; e < b.size(); ++e) {
         try {
           gather(b, e, X, u, dofs, Xe, ue, edofs);
-          const Index off = c.history_offset + e * nq * hs;
-          element(b.type, Xe, ue, hs ? history_.data() + off : nullptr, hs ? trial_.data() + off : nullptr, fe,
+          element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? history->trial(bi, e) : nullptr, fe,
                   matrix ? &ke : nullptr);
           for (size_t k = 0; k < edofs.size(); ++k) {
 #pragma omp atomic
@@ -288,7 +281,8 @@ Real Body::volume(const std::vector<Vec3>& X) const {
   return s;
 }
 
-CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs) const {
+CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
+                          const QuadratureHistory* history) const {
   CellResults r;
   if (rigid()) {
     // Rigid cells: no strain, and their stress is not defined by a constitutive law (zero).
@@ -299,7 +293,8 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
     return r;
   }
   const int hs = material_->history_size();
-  std::vector<Real> scratch;
+  if (hs && (!history || history->per_point() != hs))
+    throw Error("body " + name_ + ": its material has history variables and needs their storage");
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
     const ElementBlock& b = blocks_[bi];
     const BlockCache& c = caches_[bi];
@@ -317,9 +312,8 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
 #pragma omp for schedule(static)
       for (Index e = 0; e < b.size(); ++e) {
         gather(b, e, X, u, dofs, Xe, ue, edofs);
-        const Index off = c.history_offset + e * nq * hs;
         Vec6 s, eps;
-        element(b.type, Xe, ue, hs ? history_.data() + off : nullptr, hs ? hnew.data() : nullptr, fe, nullptr, &s,
+        element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? hnew.data() : nullptr, fe, nullptr, &s,
                 &eps);
         r.stress[start + e] = s;
         r.strain[start + e] = eps;

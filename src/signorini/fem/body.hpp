@@ -11,6 +11,7 @@
 #include "signorini/fem/analysis_settings.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
+#include "signorini/fem/history.hpp"
 #include "signorini/fem/quadrature.hpp"
 #include "signorini/material/material.hpp"
 #include "signorini/mesh/mesh.hpp"
@@ -41,19 +42,21 @@ class Body {
   Index num_cells() const;
 
   // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
-  // tangent. Writes trial history; throws SolverError on a non-physical state.
-  void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint,
-                GlobalMatrix* matrix);
+  // tangent. Reads the committed history and writes the trial one of `history` (the body's,
+  // owned by the analysis; may be null for a material without history); throws SolverError
+  // on a non-physical state.
+  void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
+                QuadratureHistory* history = nullptr) const;
   // Adds the consistent nodal forces of a dead body force b (per unit reference volume).
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,
                       VecX& fext) const;
-  // Per-cell averages of stress and strain at the state `u` (uses committed history).
-  CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs) const;
+  // Per-cell averages of stress and strain at the state `u` (from the committed history).
+  CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
+                      const QuadratureHistory* history = nullptr) const;
+  // Quadrature points per element of block b (the history's layout).
+  Index points_per_element(size_t b) const { return static_cast<Index>(caches_[b].rule.size()); }
   // Reference volume (area times thickness, or with 2 pi r in axisymmetry).
   Real volume(const std::vector<Vec3>& X) const;
-
-  void commit() { history_ = trial_; }
-  void revert() { trial_ = history_; }
 
   // Element kernel: residual and tangent of one cell, exposed for tangent tests.
   // Xe: nodal reference coordinates, ue: nodal displacements (ndpn per node, node-major).
@@ -66,7 +69,6 @@ class Body {
     QuadratureRule rule;
     std::vector<VecX> N;
     std::vector<MatX> dN;
-    Index history_offset = 0;  // into history_, per block
   };
   const BlockCache& cache(ElementType t) const;
 
@@ -75,7 +77,6 @@ class Body {
   std::shared_ptr<const Material> material_;
   AnalysisSettings settings_;
   std::vector<BlockCache> caches_;  // one per block
-  std::vector<Real> history_, trial_;
   std::vector<Index> reference_;
 };
 

@@ -213,7 +213,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
       body{"body", 1, {}, {}};
   for (size_t bi = 0; bi < m.bodies.size(); ++bi) {
     const Body& b = *m.bodies[bi];
-    CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs);
+    CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs, &a.history(bi));
     for (size_t e = 0; e < r.stress.size(); ++e) {
       for (int k = 0; k < 6; ++k) {
         stress.values.push_back(r.stress[e](order[k]));
@@ -225,6 +225,34 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     for (auto& blk : b.blocks()) d.cells.push_back(&blk);
   }
   d.cell_fields = {stress, strain, vm, body};
+  // The materials' history variables by their names (per cell, the mean over its quadrature
+  // points of the committed state; 0 in the cells of bodies whose material has no such value).
+  std::vector<std::string> hnames;
+  for (size_t bi = 0; bi < m.bodies.size(); ++bi)
+    for (const std::string& n : a.history(bi).names())
+      if (std::find(hnames.begin(), hnames.end(), n) == hnames.end()) hnames.push_back(n);
+  for (const std::string& hn : hnames) {
+    VtuField f{hn, 1, {}, {}};
+    for (size_t bi = 0; bi < m.bodies.size(); ++bi) {
+      const QuadratureHistory& h = a.history(bi);
+      const auto& names = h.names();
+      const auto k = std::find(names.begin(), names.end(), hn);
+      const Body& b = *m.bodies[bi];
+      for (size_t blk = 0; blk < b.blocks().size(); ++blk) {
+        const Index nq = b.points_per_element(blk);
+        for (Index e = 0; e < b.blocks()[blk].size(); ++e) {
+          Real mean = 0;
+          if (k != names.end() && !h.empty()) {
+            const Real* v = h.committed(blk, e);
+            for (Index q = 0; q < nq; ++q) mean += v[q * h.per_point() + (k - names.begin())];
+            mean /= static_cast<Real>(nq);
+          }
+          f.values.push_back(mean);
+        }
+      }
+    }
+    d.cell_fields.push_back(f);
+  }
   const std::string name = fmt::format("increment_{:02d}_{:04d}.vtu", step + 1, inc);
   write_file_atomically(dir_ + "/" + name, vtu_text(d));
   pvd_.emplace_back(time, name);

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "signorini/core/types.hpp"
 
@@ -22,6 +23,17 @@ class Material {
   virtual ~Material() = default;
   virtual std::string model() const = 0;
   virtual int history_size() const { return 0; }
+  // The history of a point before any load (history_size() values): zero by default; a
+  // multiplicative plastic F_p starts at I.
+  virtual void initialize_history(Real* h) const {
+    for (int i = 0; i < history_size(); ++i) h[i] = 0;
+  }
+  // Names of the history values, for output (default: history_1, history_2, ...).
+  virtual std::vector<std::string> history_names() const {
+    std::vector<std::string> n;
+    for (int i = 0; i < history_size(); ++i) n.push_back("history_" + std::to_string(i + 1));
+    return n;
+  }
   // Stress (Voigt) and tangent (6x6, consistent with the strain measure) at one point.
   virtual void compute(const MaterialInput& in, Vec6& stress, Mat6& tangent) const = 0;
   // A stiffness scale (Young's modulus or equivalent), used for automatic scalings.

@@ -101,9 +101,9 @@ std::vector<std::vector<Index>> rigid_groups(const Model& m) {
 Analysis::Analysis(Model& model)
     : model_(model),
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model), rigid_groups(model)),
-      linear_solver_(model.linear_solver, model.settings.dimension == Dimension::three_d),
-      condensed_solver_(model.settings.dimension == Dimension::three_d),
+      backend_(make_serial_backend(model.linear_solver, model.settings.dimension == Dimension::three_d)),
       cells_(all_cells(model)) {
+  for (auto& b : model.bodies) history_.emplace_back(*b);
   Real stiffness = 0;
   for (auto& b : model.bodies)
     if (!b->rigid()) stiffness = std::max(stiffness, b->material().stiffness_scale());
@@ -163,11 +163,10 @@ void Analysis::detect_contact(Real max_step) {
 void Analysis::rebuild_pattern() {
   std::vector<std::vector<Index>> couplings;
   for (auto& c : contacts_) c->couplings(dofs_, couplings);
-  if (!couplings_.empty() && couplings == couplings_ && system_.matrix().rows() == num_unknowns()) return;
+  if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
-  system_.build_pattern(dofs_, cells_, couplings_, num_unknowns());
-  linear_solver_.reset();  // a new pattern needs a new symbolic analysis
-  log::debug("sparse pattern rebuilt: {} unknowns, {} nonzeros", num_unknowns(), system_.nonzeros());
+  backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
+  log::debug("sparse pattern rebuilt: {} unknowns, {} nonzeros", num_unknowns(), backend_->nonzeros());
 }
 
 void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent) {
@@ -193,7 +192,7 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
         fl.traction = l.vector;
         fl.pressure = l.pressure;
         fl.follower = model_.settings.finite_strain;
-        add_facet_load(fl, model_.settings, X, u_, dofs_, scale, fext, tangent ? &system_ : nullptr);
+        add_facet_load(fl, model_.settings, X, u_, dofs_, scale, fext, tangent ? &backend_->matrix() : nullptr);
         break;
       }
       case LoadKind::body_force:
@@ -218,8 +217,9 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     fint.setZero();
     fext.setZero();
     fc.setZero();
-    if (tangent) system_.zero();
-    for (auto& b : model_.bodies) b->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &system_ : nullptr);
+    if (tangent) backend_->zero();
+    for (size_t i = 0; i < model_.bodies.size(); ++i)
+      model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr, &history_[i]);
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);
     if (!contacts_.empty()) {
@@ -227,18 +227,18 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       const std::vector<Vec3> x = positions(u_);
       for (auto& c : contacts_) {
         if (c->update_each_iteration()) c->detect(x, 0);
-        c->assemble(x, u_, dofs_, fc, tangent ? &system_ : nullptr, &constrained_);
+        c->assemble(x, u_, dofs_, fc, tangent ? &backend_->matrix() : nullptr, &constrained_);
       }
       contact_time += tc.seconds();
     }
     // A contact constraint outside the pattern (the search moved, or sliding went beyond
     // the neighbourhood): rebuild the pattern with the current couplings and assemble again.
-    if (tangent && system_.missed() && attempt == 0) {
+    if (tangent && backend_->missed() && attempt == 0) {
       couplings_.clear();
       rebuild_pattern();
       continue;
     }
-    if (tangent && system_.missed()) throw SolverError("contact coupling outside the sparse pattern");
+    if (tangent && backend_->missed()) throw SolverError("contact coupling outside the sparse pattern");
     break;
   }
   const Real stab_force = add_stabilization(fint, tangent);
@@ -256,7 +256,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     // predictor): the Newton step takes them on, linearized, R_f - K_fc (u_c* - u_c), instead
     // of moving those nodes alone first, which would shear (or invert, at finite strain) the
     // elements beside them before the rest can follow.
-    const Real diag = system_.mean_abs_diagonal();
+    const Real diag = backend_->mean_abs_diagonal();
     VecX lift = VecX::Zero(residual.size());
     lift_pending_ = false;
     for (const Prescribed& p : prescribed_) {
@@ -264,11 +264,12 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       lift_pending_ = lift_pending_ || std::abs(lift(p.dof)) > 1e-14 * (std::abs(u_(p.dof)) + std::abs(p.end - p.start));
     }
     if (lift_pending_) {
-      const VecX klift = system_.matrix() * lift;
+      VecX klift;
+      backend_->multiply(lift, klift);
       for (Index i = 0; i < residual.size(); ++i) residual(i) = constrained_[i] ? diag * lift(i) : residual(i) - klift(i);
       lift_force = klift.norm();
     }
-    system_.apply_dirichlet(constrained_, diag);
+    backend_->apply_dirichlet(constrained_, diag);
   }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
@@ -293,7 +294,7 @@ Real Analysis::add_stabilization(VecX& fint, bool tangent) {
   if (!(alpha > 0) || !(stab_dl_ > 0)) return 0;
   if (stab_scale_ == 0) {
     if (!tangent) return 0;
-    stab_scale_ = system_.mean_abs_diagonal();
+    stab_scale_ = backend_->mean_abs_diagonal();
   }
   const Real c = alpha * stab_scale_ / stab_dl_;
   MatX one = MatX::Constant(1, 1, c);
@@ -303,7 +304,7 @@ Real Analysis::add_stabilization(VecX& fint, bool tangent) {
     const Real du = u_(i) - u_predicted_(i);
     fint(i) += c * du;
     f2 += c * du * c * du;
-    if (tangent) system_.add(&i, 1, one);
+    if (tangent) backend_->matrix().add(&i, 1, one);
   }
   return std::sqrt(f2);
 }
@@ -380,7 +381,8 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   // residual (a status change: the constraints on either side are logged).
   const Real h = 1e-6 / std::max(du_max, Real(1e-300));
   VecX rp, rm;
-  const SparseMatrix K = system_.matrix();
+  VecX kd;
+  backend_->multiply(du, kd);  // before the evaluations below
   u_ = u0 + h * du;
   evaluate(lambda, false, rp);
   const auto view_p = contact_view();
@@ -388,7 +390,7 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   evaluate(lambda, false, rm);
   const auto view_m = contact_view();
   u_ = u0;
-  const VecX fd = (rm - rp) / (2 * h), kd = K * du;
+  const VecX fd = (rm - rp) / (2 * h);
   Real err = 0, ref = 0;
   Index worst = -1;
   for (Index i = 0; i < fd.size(); ++i) {
@@ -411,128 +413,193 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
     log::info("      at +h:{}\n      at -h:{}", view_p.at(worst_node), view_m.at(worst_node));
 }
 
+void Analysis::predict(Real dl) {
+  u_ = u_converged_;
+  stab_dl_ = dl;
+  // Predictor: the free DOFs continue along the last increment of this step, scaled.
+  if (model_.newton.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
+  u_predicted_ = u_;
+  // Prescribed DOFs: where the predictor puts them; the first Newton step takes them the
+  // rest of the way (evaluate). Without a predictor, from the converged state.
+  for (auto& h : history_) h.revert();
+}
+
+void Analysis::begin_contact_increment(Real lambda) {
+  if (contacts_.empty()) return;
+  // Detection at the start of the increment, on the predicted configuration; d_max grows
+  // with the largest nodal motion of the prediction.
+  Real step = 0;
+  const int dim = dofs_.dofs_per_node();
+  std::vector<Real> target(num_unknowns(), 0.0);
+  for (const Prescribed& p : prescribed_) target[p.dof] = p.value(lambda);
+  for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
+    if (dofs_.has_dofs(nd)) {
+      Real m2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const Index dof = dofs_.dof(nd, d);
+        const Real v = (constrained_[dof] ? target[dof] : u_(dof)) - u_converged_(dof);
+        m2 += v * v;
+      }
+      step = std::max(step, std::sqrt(m2));
+    }
+  log::Timer tc;
+  detect_contact(step);
+  const std::vector<Vec3> x0 = positions(u_converged_);
+  for (auto& c : contacts_) c->begin_increment(x0, u_converged_);
+  rebuild_pattern();
+  summary_.contact_seconds += tc.seconds();
+}
+
+void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R, VecX& du, IncrementRecord& rec) {
+  log::Timer ts;
+  try {
+    NewtonSolveRequest q;
+    q.symmetric = symmetric_;
+    q.body_symmetric = body_symmetric_;
+    q.is_multiplier = has_multipliers_ ? &is_multiplier_ : nullptr;
+    q.condense_contact = ns.condense_contact;
+    rec.linear_solver = backend_->solve(q, R, du);
+  } catch (const SolverError& e) {
+    // Singular at the very first solve, from the undeformed state: cutting back cannot
+    // help, the model is missing supports.
+    if (it == 1 && summary_.increments.empty() && u_converged_.isZero(0))
+      throw FatalModelError(std::string(e.what()) +
+                            " at the first solve from the undeformed state: the model probably "
+                            "lacks supports (a rigid-body motion is free) in some direction");
+    throw;
+  }
+  // (displacements only: a first multiplier estimate may be large, a pressure.)
+  const Real du_max = du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff();
+  if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) &&
+                          du_max > 1e8 * (1 + u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff()) && du_max > 1e6))
+    throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
+                          "probably lacks supports (a rigid-body motion is free) in some direction");
+  summary_.solve_seconds += ts.seconds();
+}
+
+Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm,
+                           VecX& Rtrial, Real& new_scale, Real& new_norm) {
+  // Backtracking on the residual norm (full steps when the line search is off).
+  Real alpha = 1;
+  for (int ls = 0;; ++ls) {
+    u_ = u0 + alpha * du;
+    bool ok = true;
+    try {
+      new_scale = evaluate(lambda, true, Rtrial);
+      new_norm = Rtrial.norm();
+      ok = std::isfinite(new_norm);
+    } catch (const SolverError&) {
+      ok = false;  // e.g. an element turned inside out: shorten the step
+    }
+    if (ok && (!ns.line_search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
+    if (!ns.line_search || ls >= 6) {
+      if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
+      break;
+    }
+    alpha *= 0.5;
+  }
+  return alpha;
+}
+
+Analysis::AfterConvergence Analysis::after_convergence(NewtonState& st, IncrementRecord& rec, std::string& why) {
+  // A node held closed by the chattering guard that ended in tension: held open instead.
+  Index released = 0;
+  for (auto& c : contacts_) released += c->fix_held_nodes();
+  if (released > 0 && st.released_rounds++ < 3) {
+    log::info("    {} node(s) held closed by the chattering guard ended in tension: held open, Newton goes on",
+              released);
+    return AfterConvergence::iterate;
+  }
+  for (auto& c : contacts_)
+    if (const Index n = c->frozen_in_tension()) {
+      why = fmt::format("contact '{}': {} node(s) held by the chattering guard violate the contact conditions (closed "
+                        "in tension, open and penetrating, or held in stick/slip on the wrong side of the friction disc)",
+                        c->label(), n);
+      return AfterConvergence::fail;
+    }
+  // The chattering guard broke a cycle by holding nodes, and Newton converged with them
+  // held: a solution within the guard's tolerance, not the exact one. From this state, near
+  // the solution, the semi-smooth Newton method converges locally: the holds are released
+  // once and Newton goes on, so the result is the exact solution when the method reaches it
+  // (a node that flips again is held at its first flip, and that held state is accepted).
+  if (!st.polished) {
+    Index held = 0;
+    for (auto& c : contacts_) held += c->release_holds();
+    if (held > 0) {
+      st.polished = true;
+      log::info("    converged with {} node(s) held by the chattering guard: released, Newton goes on", held);
+      return AfterConvergence::iterate;
+    }
+  }
+  // Augmented Lagrangian: Uzawa updates of the multipliers until the penetration is within
+  // the tolerance; Newton goes on from the current state after each update. Each pair has its
+  // own limit (enforcement.max_uzawa).
+  bool satisfied = true;
+  const std::vector<Vec3> xc = positions(u_);
+  st.augmentations.resize(contacts_.size(), 0);
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    ContactInterface& c = *contacts_[i];
+    Real pen = 0;
+    if (c.augment(xc, u_, pen)) continue;
+    satisfied = false;
+    log::info("    Uzawa update {} of '{}': max penetration {:.3e} > {:.3e}", st.augmentations[i] + 1, c.label(), pen,
+              c.gap_tolerance());
+    if (++st.augmentations[i] > c.max_augmentations()) {
+      why = fmt::format("contact '{}': the augmented Lagrangian did not reach its gap tolerance in {} Uzawa updates",
+                        c.label(), c.max_augmentations());
+      return AfterConvergence::fail;
+    }
+  }
+  if (satisfied) {
+    rec.uzawa_updates = st.uzawa;
+    return AfterConvergence::accept;
+  }
+  ++st.uzawa;
+  return AfterConvergence::iterate;
+}
+
 bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
   NewtonSettings ns = model_.newton;
   // The residual norm is no merit function for the semi-smooth Newton method of contact
   // multipliers: a line search on it stalls the active-set updates, so steps are full.
   for (auto& c : contacts_) ns.line_search = ns.line_search && !c->uses_multipliers();
-  u_ = u_converged_;
-  stab_dl_ = dl;
-  // Predictor: the free DOFs continue along the last increment of this step, scaled.
-  if (ns.predictor && last_dl_ > 0) u_ += (dl / last_dl_) * last_du_;
-  u_predicted_ = u_;
-  // Prescribed DOFs: where the predictor puts them; the first Newton step takes them the
-  // rest of the way (evaluate). Without a predictor, from the converged state.
-  for (auto& b : model_.bodies) b->revert();
-  if (!contacts_.empty()) {
-    // Detection at the start of the increment, on the predicted configuration; d_max grows
-    // with the largest nodal motion of the prediction.
-    Real step = 0;
-    const int dim = dofs_.dofs_per_node();
-    std::vector<Real> target(num_unknowns(), 0.0);
-    for (const Prescribed& p : prescribed_) target[p.dof] = p.value(lambda);
-    for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
-      if (dofs_.has_dofs(nd)) {
-        Real m2 = 0;
-        for (int d = 0; d < dim; ++d) {
-          const Index dof = dofs_.dof(nd, d);
-          const Real v = (constrained_[dof] ? target[dof] : u_(dof)) - u_converged_(dof);
-          m2 += v * v;
-        }
-        step = std::max(step, std::sqrt(m2));
-      }
-    log::Timer tc;
-    detect_contact(step);
-    const std::vector<Vec3> x0 = positions(u_converged_);
-    for (auto& c : contacts_) c->begin_increment(x0, u_converged_);
-    rebuild_pattern();
-    summary_.contact_seconds += tc.seconds();
-  }
+  predict(dl);
+  begin_contact_increment(lambda);
   VecX R, du, Rtrial;
   rec.residuals.clear();
   rec.energies.clear();
   try {
-    Real scale = evaluate(lambda, true, R);
-    Real rnorm = R.norm();
+    NewtonState st;
+    st.scale = evaluate(lambda, true, R);
+    st.rnorm = R.norm();
     // A floor under the force scale: the force that 1e-3 of the largest displacement would
     // take across one element (mean stiffness diagonal). Without it, a body moved rigidly by
     // prescribed displacements before it touches anything has only round-off forces, and
     // the relative residual of round-off never converges.
     const Real floor =
-        1e-3 * system_.mean_abs_diagonal() * (dofs_.num_dofs() ? u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff() : 0.0);
+        1e-3 * backend_->mean_abs_diagonal() * (dofs_.num_dofs() ? u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff() : 0.0);
     auto converged_residual = [&](Real r, Real sc) {
       return !lift_pending_ &&
              (r <= std::max(ns.residual_tolerance * std::max(sc, floor), ns.absolute_tolerance) || sc < 1e-300);
     };
-    rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
+    rec.residuals.push_back(st.scale > 0 ? st.rnorm / st.scale : st.rnorm);
     log::info("    iter {:2d}  |R|/F = {:.3e}", 0, rec.residuals.back());
-    if (converged_residual(rnorm, scale)) {
+    if (converged_residual(st.rnorm, st.scale)) {
       rec.iterations = 0;
       return true;
     }
-    Real energy0 = 0;
-    int cycle_start = 1, uzawa = 0, released_rounds = 0;
-    bool polished = false;  // the chattering guard's holds were released once after convergence
-    std::vector<int> augmentations(contacts_.size(), 0);  // Uzawa updates per pair
-    for (int it = 1; it - cycle_start < ns.max_iterations; ++it) {
+    for (int it = 1; it - st.cycle_start < ns.max_iterations; ++it) {
       if (const int sig = interrupt_signal()) throw Interrupted(sig);
-      log::Timer ts;
-      try {
-        // Multiplier contact with the automatic solver: the condensed system when its structure
-        // allows (condensed_solve.hpp); a solver chosen in the deck gets the whole system.
-        bool condensed = false;
-        if (has_multipliers_ && ns.condense_contact && model_.linear_solver == "auto") {
-          condensed = condensed_solver_.solve(system_.matrix(), is_multiplier_, body_symmetric_, R, du);
-          if (!condensed && !condense_reported_) {
-            log::info("    contact multipliers kept in the linear system (UMFPACK): {}", condensed_solver_.why_not());
-            condense_reported_ = true;
-          }
-        }
-        if (!condensed) linear_solver_.solve(system_.matrix(), symmetric_, R, du);
-        rec.linear_solver = condensed ? "condensed+" + condensed_solver_.last_used() : linear_solver_.last_used();
-      } catch (const SolverError& e) {
-        // Singular at the very first solve, from the undeformed state: cutting back cannot
-        // help, the model is missing supports.
-        if (it == 1 && summary_.increments.empty() && u_converged_.isZero(0))
-          throw FatalModelError(std::string(e.what()) +
-                                " at the first solve from the undeformed state: the model probably "
-                                "lacks supports (a rigid-body motion is free) in some direction");
-        throw;
-      }
-      // (displacements only: a first multiplier estimate may be large, a pressure.)
-      const Real du_max = du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff();
-      if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) &&
-                              du_max > 1e8 * (1 + u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff()) && du_max > 1e6))
-        throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
-                              "probably lacks supports (a rigid-body motion is free) in some direction");
-      summary_.solve_seconds += ts.seconds();
+      solve_newton_step(it, ns, R, du, rec);
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
       std::map<Index, std::string> view_before;
       if (check_tangent_) {
         view_before = contact_view();
-        check_tangent(lambda, u0, du, du_max);
+        check_tangent(lambda, u0, du, du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff());
       }
-      // Backtracking line search on the residual norm.
-      Real alpha = 1;
       Real new_scale = 0, new_norm = 0;
-      for (int ls = 0;; ++ls) {
-        u_ = u0 + alpha * du;
-        bool ok = true;
-        try {
-          new_scale = evaluate(lambda, true, Rtrial);
-          new_norm = Rtrial.norm();
-          ok = std::isfinite(new_norm);
-        } catch (const SolverError&) {
-          ok = false;  // e.g. an element turned inside out: shorten the step
-        }
-        if (ok && (!ns.line_search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
-        if (!ns.line_search || ls >= 6) {
-          if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
-          break;
-        }
-        alpha *= 0.5;
-      }
+      const Real alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm);
       if (check_tangent_) {
         const auto view_after = contact_view();
         for (auto& [node, text] : view_after)
@@ -540,88 +607,37 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
             log::info("      node {}:{}\n        ->{}", node, view_before.at(node), text);
       }
       R.swap(Rtrial);
-      rnorm = new_norm;
+      st.rnorm = new_norm;
       for (auto& c : contacts_) c->count_status_changes();
-      scale = std::max(scale, new_scale);
-      const Real rel = scale > 0 ? rnorm / scale : rnorm;
+      st.scale = std::max(st.scale, new_scale);
+      const Real rel = st.scale > 0 ? st.rnorm / st.scale : st.rnorm;
       rec.residuals.push_back(rel);
       rec.energies.push_back(energy);
       rec.iterations = it;
       log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}", it, rel, energy,
                 alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string());
-      if (!std::isfinite(rnorm)) {
+      if (!std::isfinite(st.rnorm)) {
         why = "residual is not finite";
         return false;
       }
-      if (it == cycle_start) energy0 = energy;
-      const bool energy_ok = it > cycle_start && energy <= ns.energy_tolerance * energy0;
-      if (converged_residual(rnorm, scale) ||
-          (energy_ok && !lift_pending_ && rnorm <= 1e3 * std::max(ns.residual_tolerance * scale, ns.absolute_tolerance))) {
-        Index released = 0;
-        for (auto& c : contacts_) released += c->fix_held_nodes();
-        if (released > 0 && released_rounds++ < 3) {
-          log::info("    {} node(s) held closed by the chattering guard ended in tension: held open, Newton goes on",
-                    released);
-          cycle_start = it + 1;
-          scale = evaluate(lambda, true, R);
-          rnorm = R.norm();
-          rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
-          continue;
-        }
-        for (auto& c : contacts_)
-          if (const Index n = c->frozen_in_tension()) {
-            why = fmt::format("contact '{}': {} node(s) held by the chattering guard violate the contact conditions (closed in tension, open and penetrating, or held in stick/slip on the wrong side of the friction disc)",
-                              c->label(), n);
-            return false;
-          }
-        // The chattering guard broke a cycle by holding nodes, and Newton converged with them
-        // held: a solution within the guard's tolerance, not the exact one. From this state, near
-        // the solution, the semi-smooth Newton method converges locally: the holds are released
-        // once and Newton goes on, so the result is the exact solution when the method reaches it
-        // (a node that flips again is held at its first flip, and that held state is accepted).
-        if (!polished) {
-          Index held = 0;
-          for (auto& c : contacts_) held += c->release_holds();
-          if (held > 0) {
-            polished = true;
-            log::info("    converged with {} node(s) held by the chattering guard: released, Newton goes on", held);
-            cycle_start = it + 1;
-            scale = evaluate(lambda, true, R);
-            rnorm = R.norm();
-            rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
+      if (it == st.cycle_start) st.energy0 = energy;
+      const bool energy_ok = it > st.cycle_start && energy <= ns.energy_tolerance * st.energy0;
+      if (converged_residual(st.rnorm, st.scale) ||
+          (energy_ok && !lift_pending_ &&
+           st.rnorm <= 1e3 * std::max(ns.residual_tolerance * st.scale, ns.absolute_tolerance))) {
+        switch (after_convergence(st, rec, why)) {
+          case AfterConvergence::accept: return true;
+          case AfterConvergence::fail: return false;
+          case AfterConvergence::iterate:
+            // Newton goes on from here (a new cycle: its own energy reference).
+            st.cycle_start = it + 1;
+            st.scale = evaluate(lambda, true, R);
+            st.rnorm = R.norm();
+            rec.residuals.push_back(st.scale > 0 ? st.rnorm / st.scale : st.rnorm);
             continue;
-          }
         }
-        // Augmented Lagrangian: Uzawa updates of the multipliers until the penetration is
-        // within the tolerance; Newton goes on from the current state after each update. Each
-        // pair has its own limit (enforcement.max_uzawa).
-        bool satisfied = true;
-        const std::vector<Vec3> xc = positions(u_);
-        for (size_t i = 0; i < contacts_.size(); ++i) {
-          ContactInterface& c = *contacts_[i];
-          Real pen = 0;
-          if (c.augment(xc, u_, pen)) continue;
-          satisfied = false;
-          log::info("    Uzawa update {} of '{}': max penetration {:.3e} > {:.3e}", augmentations[i] + 1, c.label(), pen,
-                    c.gap_tolerance());
-          if (++augmentations[i] > c.max_augmentations()) {
-            why = fmt::format("contact '{}': the augmented Lagrangian did not reach its gap tolerance in {} Uzawa updates",
-                              c.label(), c.max_augmentations());
-            return false;
-          }
-        }
-        if (satisfied) {
-          rec.uzawa_updates = uzawa;
-          return true;
-        }
-        ++uzawa;
-        cycle_start = it + 1;
-        scale = evaluate(lambda, true, R);
-        rnorm = R.norm();
-        rec.residuals.push_back(scale > 0 ? rnorm / scale : rnorm);
-        continue;
       }
-      if (it - cycle_start > 2 && rel > 1e8 * rec.residuals.front()) {
+      if (it - st.cycle_start > 2 && rel > 1e8 * rec.residuals.front()) {
         why = "residual diverges";
         return false;
       }
@@ -648,7 +664,7 @@ AnalysisSummary Analysis::run() {
                                    e.signal == SIGINT ? "SIGINT" : e.signal == SIGTERM ? "SIGTERM" : "a signal");
   }
   // Back to the last converged increment, the state the writer keeps on disk.
-  for (auto& b : model_.bodies) b->revert();
+  for (auto& h : history_) h.revert();
   u_ = u_converged_;
   return summary_;
 }
@@ -690,7 +706,7 @@ AnalysisSummary Analysis::run_steps() {
                      step.name, inc + 1, lambda, lambda + dl, why, next);
         if (next < step.min_increment * (1 - 1e-12)) {
           u_ = u_converged_;
-          for (auto& b : model_.bodies) b->revert();
+          for (auto& h : history_) h.revert();
           summary_.failure =
               fmt::format("step '{}' at fraction {:.6g}: {}; the increment would fall below the minimum {:.3g} "
                           "after {} cutbacks. The last converged state is kept.",
@@ -707,7 +723,7 @@ AnalysisSummary Analysis::run_steps() {
       last_du_ = u_ - u_converged_;
       last_dl_ = dl;
       u_converged_ = u_;
-      for (auto& b : model_.bodies) b->commit();
+      for (auto& h : history_) h.commit();
       for (auto& c : contacts_) rec.contact.push_back(c->commit());
       report_contact_pressures();
       rec.fraction = lambda;

@@ -1,7 +1,7 @@
 // The nonlinear quasi-static analysis: load steps split into increments (automatic cutback
 // on failure, growth on easy convergence), each solved by Newton-Raphson with a
-// backtracking line search. It owns the iteration state; the Model stays read-only
-// (bodies keep their material history).
+// backtracking line search. It owns the iteration state, the material history of every
+// body's quadrature points included; the Model stays read-only.
 #pragma once
 #include <cstdlib>
 #include <map>
@@ -15,8 +15,7 @@
 #include "signorini/fem/global_system.hpp"
 #include "signorini/fem/model.hpp"
 #include "signorini/fem/surface_load.hpp"
-#include "signorini/solver/condensed_solve.hpp"
-#include "signorini/solver/linear_solver.hpp"
+#include "signorini/solver/backend.hpp"
 
 namespace signorini {
 
@@ -79,6 +78,8 @@ class Analysis {
   // Unknowns: the displacement DOFs, then the contact multipliers.
   Index num_unknowns() const { return static_cast<Index>(u_.size()); }
   const std::vector<std::unique_ptr<ContactInterface>>& contacts() const { return contacts_; }
+  // The quadrature-point history of body i (model order), committed at each converged increment.
+  const QuadratureHistory& history(size_t i) const { return history_[i]; }
   // Current positions X + u of every node.
   std::vector<Vec3> positions(const VecX& u) const;
   const VecX& displacement() const { return u_; }
@@ -113,7 +114,34 @@ class Analysis {
   // Rebuilds the sparse pattern from the cells and the contact couplings.
   void rebuild_pattern();
   void begin_step(int s);
+  // One increment, to the step fraction lambda from the last converged state (size dl), in
+  // named steps: predict, begin_contact_increment, then Newton iterations (solve_newton_step,
+  // line_search, the contact status count) until the residual converges and
+  // after_convergence accepts. False with `why` when it fails (the caller cuts back).
   bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
+  // The state of one increment's Newton iterations.
+  struct NewtonState {
+    Real scale = 0, rnorm = 0, energy0 = 0;
+    int cycle_start = 1;        // first iteration of the current cycle (after a Uzawa update or a release)
+    int uzawa = 0;              // Uzawa rounds
+    int released_rounds = 0;    // rounds of held-closed nodes released in tension
+    bool polished = false;      // the chattering guard's holds were released once after convergence
+    std::vector<int> augmentations;  // Uzawa updates per pair
+  };
+  enum class AfterConvergence { accept, iterate, fail };
+  // The predictor: u from the last converged state along the last increment of the step.
+  void predict(Real dl);
+  // Contact detection on the predicted configuration, slip origins, the sparse pattern.
+  void begin_contact_increment(Real lambda);
+  // The Newton step du from J du = R (condensed contact multipliers when possible); throws
+  // FatalModelError for a model without supports.
+  void solve_newton_step(int it, const NewtonSettings& ns, const VecX& R, VecX& du, IncrementRecord& rec);
+  // u = u0 + alpha du with backtracking on |R|; returns alpha (Rtrial: the residual there).
+  Real line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm, VecX& Rtrial,
+                   Real& new_scale, Real& new_norm);
+  // Once the residual has converged: the chattering guard's checks and release, the
+  // augmented Lagrangian's Uzawa updates; accept, iterate on, or fail (with `why`).
+  AfterConvergence after_convergence(NewtonState& st, IncrementRecord& rec, std::string& why);
   // Diagnostics of SIGNORINI_CHECK_TANGENT: each slave node's contact constraints (kind,
   // facet, gap, closed, slip) as text, from the last evaluation; the tangent along the Newton
   // step du from u0 against central differences of the residual, logged.
@@ -122,14 +150,11 @@ class Analysis {
 
   Model& model_;
   DofMap dofs_;
-  SparseSystem system_;
-  AutoLinearSolver linear_solver_;
-  CondensedContactSolver condensed_solver_;
+  std::unique_ptr<AlgebraBackend> backend_;  // the global tangent, its pattern and the Newton solve
   std::vector<char> is_multiplier_;  // per unknown
   bool has_multipliers_ = false;
   bool symmetric_ = true;
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
-  bool condense_reported_ = false;
   // Stabilization: the stiffness scale D (set at the first tangent), the current increment
   // dl, and |f_v| / F at the last evaluation.
   Real stab_scale_ = 0, stab_dl_ = 0, stab_ratio_ = 0;
@@ -147,6 +172,7 @@ class Analysis {
   std::vector<FacetLoad> facet_loads_cache_;
   int step_ = 0;
   std::vector<std::unique_ptr<ContactInterface>> contacts_;
+  std::vector<QuadratureHistory> history_;  // per body: the material's internal variables
   std::vector<const ElementBlock*> cells_;
   std::vector<std::vector<Index>> couplings_;
 

@@ -1,0 +1,56 @@
+// The algebra behind the analysis: the global tangent that element and contact code add
+// into (through GlobalMatrix), its sparse pattern, the Dirichlet rows, and the solve of the
+// Newton system. The Analysis talks to this interface only, so a distributed backend (PETSc
+// Mat/Vec with MPI, issue 15) plugs in without touching element or contact code: each rank
+// then owns the rows [owned_begin, owned_end) and adds into ghost rows too, which the backend
+// sends to their owners at assembly's end. The serial backend (Eigen storage, SuiteSparse
+// and Eigen solvers) owns every row.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "signorini/fem/global_system.hpp"
+
+namespace signorini {
+
+struct NewtonSolveRequest {
+  bool symmetric = true;            // the whole system (bodies and contact) is symmetric
+  bool body_symmetric = true;       // symmetric apart from the contact multipliers' rows and columns
+  const std::vector<char>* is_multiplier = nullptr;  // per unknown (null: none)
+  bool condense_contact = true;     // eliminate the multipliers when the structure allows
+};
+
+class AlgebraBackend {
+ public:
+  virtual ~AlgebraBackend() = default;
+  virtual std::string name() const = 0;
+  // The rows this process owns (serial: all of them).
+  virtual Index owned_begin() const = 0;
+  virtual Index owned_end() const = 0;
+  // Pattern: DOF pairs sharing a cell plus every pair within each coupling group; `total`
+  // unknowns (displacements, then multipliers and obstacle unknowns). Forgets factorizations.
+  virtual void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
+                             const std::vector<std::vector<Index>>& couplings, Index total) = 0;
+  virtual Index rows() const = 0;
+  virtual Index nonzeros() const = 0;
+  // Assembly: zero, add (thread safe) through matrix(), then missed() tells whether an add
+  // fell outside the pattern.
+  virtual void zero() = 0;
+  virtual GlobalMatrix& matrix() = 0;
+  virtual bool missed() const = 0;
+  // y = K x over all unknowns.
+  virtual void multiply(const VecX& x, VecX& y) const = 0;
+  virtual Real mean_abs_diagonal() const = 0;
+  // Zeroes the rows and columns of constrained unknowns, `scale` on their diagonal.
+  virtual void apply_dirichlet(const std::vector<char>& constrained, Real scale) = 0;
+  // Solves K du = r; returns the solver used (for the log and summary.json). Throws
+  // SolverError when no solver succeeds.
+  virtual std::string solve(const NewtonSolveRequest& request, const VecX& r, VecX& du) = 0;
+};
+
+// The serial backend: SparseSystem storage, the automatic linear solver (CHOLMOD, UMFPACK,
+// CG), the condensed solve of contact multipliers. `linear`: the deck's solver.linear.
+std::unique_ptr<AlgebraBackend> make_serial_backend(const std::string& linear, bool three_d);
+
+}  // namespace signorini
