@@ -44,7 +44,7 @@ INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGrid, ::testing::ValuesIn(coarse_grid()
 // an increment whose energy norm has dropped by etol once the residual is within 1e3 x rtol
 // (1e-5 relative), so the converged state is only determined to about that, and the path
 // (round-off of the BLAS threads in the factorization still varies it) picks where in that
-// band it stops. Measured in four runs of the same binaries: the SI c/a identical each time,
+// band it stops (which criterion the diverging runs stopped on was not logged). Measured in four runs of the same binaries: the SI c/a identical each time,
 // the mm one 0.62759419 / 0.62759459 / 0.62759467 (7.5e-7 relative spread). A unit error
 // (a length or a penalty not scaled) moves c/a by percents.
 TEST(FrictionGridUnits, SameResultInMillimetresAndMetres) {
