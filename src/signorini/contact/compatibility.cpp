@@ -180,37 +180,30 @@ void check_contact_pair(const ContactPairSettings& s, const Mesh& mesh, Dimensio
 }
 
 std::vector<ContactCombination> supported_contact_combinations() {
+  // Every slave facet type against every master facet type of the same dimension (a rigid
+  // obstacle has no master facets: once per slave type).
   std::vector<ContactCombination> out;
-  for (Dimension d : kDimensions)
-    for (ElementType f : is_2d(d) ? kFacets2D : kFacets3D)
+  for (Dimension d : kDimensions) {
+    const std::vector<ElementType>& facets = is_2d(d) ? kFacets2D : kFacets3D;
+    for (ElementType f : facets)
       for (const std::string& disc : kDiscretizations)
-        for (int passes : {1, 2})
-          for (const std::string& m : kMethods)
-            for (const std::string& fr : kFrictions)
-              for (const std::string& sm : kSmoothings) {
-                ContactCombination c;
-                c.dimension = d;
-                c.slave_facet = f;
-                c.master_facet = f;
-                c.discretization = disc;
-                c.passes = passes;
-                c.method = m;
-                c.friction = fr;
-                c.smoothing = sm;
-                if (check_contact_combination(c).message.empty()) out.push_back(c);
-              }
-  // Quadratic masters whose type cannot be slave.
-  for (ElementType master : {ElementType::tri6, ElementType::quad8})
-    for (const std::string& m : kMethods)
-      for (const std::string& fr : kFrictions) {
-        ContactCombination c;
-        c.dimension = Dimension::three_d;
-        c.slave_facet = master == ElementType::tri6 ? ElementType::tri3 : ElementType::quad4;
-        c.master_facet = master;
-        c.method = m;
-        c.friction = fr;
-        if (check_contact_combination(c).message.empty()) out.push_back(c);
-      }
+        for (ElementType mf : disc.rfind("rigid_", 0) == 0 ? std::vector<ElementType>{f} : facets)
+          for (int passes : {1, 2})
+            for (const std::string& m : kMethods)
+              for (const std::string& fr : kFrictions)
+                for (const std::string& sm : kSmoothings) {
+                  ContactCombination c;
+                  c.dimension = d;
+                  c.slave_facet = f;
+                  c.master_facet = mf;
+                  c.discretization = disc;
+                  c.passes = passes;
+                  c.method = m;
+                  c.friction = fr;
+                  c.smoothing = sm;
+                  if (check_contact_combination(c).message.empty()) out.push_back(c);
+                }
+  }
   return out;
 }
 

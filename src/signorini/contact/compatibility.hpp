@@ -47,8 +47,8 @@ std::vector<ContactCombination> contact_combinations(const ContactPairSettings& 
 // Throws Error naming the pair when one of its combinations is not supported.
 void check_contact_pair(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension);
 
-// Every supported combination over the table's values, with the master facet of the slave's
-// family and order (and, for two passes, either way round the same).
+// Every supported combination over the table's values: each slave facet type on each master
+// facet type of its dimension (a rigid obstacle once per slave type).
 std::vector<ContactCombination> supported_contact_combinations();
 
 // The table as text: the values of each column, then the rules (what is not available, why).
