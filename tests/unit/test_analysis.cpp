@@ -270,3 +270,40 @@ TEST(Analysis, RigidMotionByPrescribedDisplacementConverges) {
   for (auto& inc : sum.increments) EXPECT_LE(inc.iterations, 6);
   EXPECT_NEAR(a.displacement()(a.dofs().dof(m.mesh.node_sets["ymax"].front(), 0)), 0.5, 1e-12);
 }
+
+TEST(LinearSolver, CholeskyComesBackAfterAnIndefiniteTangent) {
+  // A symmetric indefinite matrix (contact's -p w hess g under a large penetration) makes the
+  // automatic solver fall back to UMFPACK; it retries Cholesky after 1, then 2, 4, ... solves
+  // (each failure in a row doubles the wait), so a tangent that becomes definite again is
+  // solved by Cholesky again instead of by LU for the rest of the run.
+  auto matrix = [](Real d1) {
+    SparseMatrix a(3, 3);
+    std::vector<Eigen::Triplet<Real, int>> t{{0, 0, 4}, {1, 1, d1}, {2, 2, 3}, {0, 1, 1}, {1, 0, 1}};
+    a.setFromTriplets(t.begin(), t.end());
+    return a;
+  };
+  const SparseMatrix spd = matrix(5), indefinite = matrix(-5);
+  const VecX b = VecX::Ones(3);
+  VecX x;
+  AutoLinearSolver s("auto");
+  s.solve(spd, true, b, x);
+  EXPECT_EQ(s.last_used(), "cholmod");
+  s.solve(indefinite, true, b, x);
+  EXPECT_EQ(s.last_used(), "umfpack");
+  EXPECT_LT((indefinite * x - b).norm(), 1e-12);
+  s.solve(spd, true, b, x);
+  EXPECT_EQ(s.last_used(), "umfpack") << "skips one solve after the first failure";
+  s.solve(spd, true, b, x);
+  EXPECT_EQ(s.last_used(), "cholmod") << "Cholesky again";
+  EXPECT_LT((spd * x - b).norm(), 1e-12);
+  // Two failures in a row: the second wait is two solves.
+  s.solve(indefinite, true, b, x);
+  s.solve(indefinite, true, b, x);  // skipped: LU
+  s.solve(indefinite, true, b, x);  // Cholesky tried, fails again: wait 2
+  EXPECT_EQ(s.last_used(), "umfpack");
+  s.solve(spd, true, b, x);
+  s.solve(spd, true, b, x);
+  EXPECT_EQ(s.last_used(), "umfpack");
+  s.solve(spd, true, b, x);
+  EXPECT_EQ(s.last_used(), "cholmod");
+}

@@ -2,7 +2,8 @@
 // (general), Eigen's own LDLT and LU that always build, and Eigen's conjugate gradients with
 // an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (CG for
 // a symmetric 3D system above `iterative_threshold` DOFs, where a direct factor would not fit
-// in memory) and UMFPACK otherwise, and falls back to UMFPACK when Cholesky or CG fails.
+// in memory) and UMFPACK otherwise, and falls back to UMFPACK when Cholesky or CG fails (for
+// the next 1, 2, 4, ... solves, then Cholesky again).
 #pragma once
 #include <memory>
 #include <string>
@@ -42,7 +43,9 @@ class AutoLinearSolver {
  private:
   std::string choice_;
   bool three_d_;
-  bool spd_failed_ = false;  // Cholesky or CG failed once: the tangent is not SPD, go to LU
+  // After Cholesky or CG fails (the tangent is not positive definite), LU for the next spd_skip_
+  // solves; the skip doubles with each failure in a row (spd_backoff_) and resets on success.
+  int spd_skip_ = 0, spd_backoff_ = 1;
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };
