@@ -12,7 +12,7 @@ namespace signorini {
 
 ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mesh, const AnalysisSettings& as,
                                    Real stiffness_scale, bool second_pass)
-    : s_(s), as_(as), dim_(as.spatial_dim()), node_ids_(&mesh.node_ids) {
+    : s_(s), dim_(as.spatial_dim()), node_ids_(&mesh.node_ids) {
   check_contact_pair(s_, mesh, as.dimension);  // the compatibility table (the deck reader checked it with the place)
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
@@ -292,9 +292,8 @@ void ContactInterface::set_reported_pressure(const std::vector<Vec3>& nodal_forc
 }
 
 Real ContactInterface::gap_tolerance() const {
-  if (s_.gap_tolerance > 0) return s_.gap_tolerance;
-  Real t = 1e300;
-  for (const NodeRecord& r : nodes_) t = std::min(t, 1e-3 * r.size);
+  Real t = s_.gap_tolerance > 0 ? s_.gap_tolerance : 1e300;
+  for (const NodeRecord& r : nodes_) t = std::min(t, r.gap_tolerance(s_.gap_tolerance));
   return t;
 }
 

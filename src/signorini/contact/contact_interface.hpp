@@ -121,7 +121,6 @@ class ContactInterface {
  private:
   ContactPairSettings s_;
   std::string label_;
-  AnalysisSettings as_;
   int dim_;
   const std::vector<Index>* node_ids_;  // the mesh's node ids, for messages (the mesh outlives the pair)
   SlaveSurface slave_;

@@ -49,6 +49,9 @@ struct NodeRecord {
   Real slip_increment = 0, slip_accumulated = 0;
   // The pressure reported for output (ContactInterface::set_reported_pressure).
   Real reported_pressure = 0;
+  // The augmented Lagrangian's accepted penetration (and elastic slip) at this node: `given`
+  // (enforcement.gap_tolerance), or 1e-3 of its facet size.
+  Real gap_tolerance(Real given) const { return given > 0 ? given : 1e-3 * size; }
 };
 
 }  // namespace signorini

@@ -154,7 +154,7 @@ class AugmentedLagrangian final : public Penalty {
                        std::vector<NodeRecord>& nodes) const override {
     // Each node against its own tolerance: given, or 1e-3 of its local facet size.
     Augmentation a;
-    auto tolerance = [&](size_t j) { return gap_tolerance > 0 ? gap_tolerance : 1e-3 * nodes[j].size; };
+    auto tolerance = [&](size_t j) { return nodes[j].gap_tolerance(gap_tolerance); };
     for (size_t j = 0; j < cs.size(); ++j) {
       if (cs[j].kind == ConstraintKind::none || !out.active[j]) continue;
       const Real pen = -cs[j].gap;
