@@ -171,12 +171,21 @@ std::vector<ContactCombination> contact_combinations(const ContactPairSettings& 
   return out;
 }
 
-void check_contact_pair(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension) {
+CompatibilityIssue first_unsupported(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension,
+                                     std::string* combination) {
   for (const ContactCombination& c : contact_combinations(s, mesh, dimension)) {
-    const CompatibilityIssue issue = check_contact_combination(c);
-    if (!issue.message.empty())
-      throw Error("contact '" + s.name + "' (" + c.text() + "): " + issue.message);
+    CompatibilityIssue issue = check_contact_combination(c);
+    if (issue.message.empty()) continue;
+    if (combination) *combination = c.text();
+    return issue;
   }
+  return {};
+}
+
+void check_contact_pair(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension) {
+  std::string combination;
+  const CompatibilityIssue issue = first_unsupported(s, mesh, dimension, &combination);
+  if (!issue.message.empty()) throw Error("contact '" + s.name + "' (" + combination + "): " + issue.message);
 }
 
 std::vector<ContactCombination> supported_contact_combinations() {

@@ -44,6 +44,11 @@ CompatibilityIssue check_contact_combination(const ContactCombination& c);
 // The combinations a pair uses: one per slave facet type x master facet type of its surfaces.
 std::vector<ContactCombination> contact_combinations(const ContactPairSettings& s, const Mesh& mesh,
                                                      Dimension dimension);
+// The first of the pair's combinations the table excludes (empty message: all supported);
+// `combination` gets its text. The deck reader reports it with the place, check_contact_pair
+// throws it.
+CompatibilityIssue first_unsupported(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension,
+                                     std::string* combination = nullptr);
 // Throws Error naming the pair when one of its combinations is not supported.
 void check_contact_pair(const ContactPairSettings& s, const Mesh& mesh, Dimension dimension);
 

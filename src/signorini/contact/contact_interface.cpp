@@ -1,10 +1,9 @@
 #include "signorini/contact/contact_interface.hpp"
 
-#include "signorini/contact/compatibility.hpp"
-
 #include <algorithm>
 #include <limits>
 
+#include "signorini/contact/compatibility.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 

@@ -544,9 +544,7 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       cs.update = s.text(ss, "update");
     }
     // The combination against the compatibility table (each facet type of either surface).
-    for (const ContactCombination& k : contact_combinations(cs, m.mesh, m.settings.dimension)) {
-      const CompatibilityIssue issue = check_contact_combination(k);
-      if (issue.message.empty()) continue;
+    if (const CompatibilityIssue issue = first_unsupported(cs, m.mesh, m.settings.dimension); !issue.message.empty()) {
       // The deepest node of the rule's key (e.g. master.rigid) the deck has (Nodes are copied,
       // never assigned: assigning a YAML::Node writes into the deck).
       std::vector<Node> at{c};

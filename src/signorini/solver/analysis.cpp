@@ -536,7 +536,6 @@ Analysis::AfterConvergence Analysis::after_convergence(NewtonState& st, Incremen
   // own limit (enforcement.max_uzawa).
   bool satisfied = true;
   const std::vector<Vec3> xc = positions(u_);
-  st.augmentations.resize(contacts_.size(), 0);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     ContactInterface& c = *contacts_[i];
     Real pen = 0;
@@ -570,6 +569,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   rec.energies.clear();
   try {
     NewtonState st;
+    st.augmentations.assign(contacts_.size(), 0);
     st.scale = evaluate(lambda, true, R);
     st.rnorm = R.norm();
     // A floor under the force scale: the force that 1e-3 of the largest displacement would
