@@ -225,9 +225,19 @@ Index ContactInterface::fix_held_nodes() {
 }
 
 Index ContactInterface::release_holds() {
+  // Only holds the converged state does not satisfy exactly are released: a node held closed
+  // in tension, held open and penetrating, held in stick outside the friction disc or in slip
+  // inside it. A hold the state satisfies is the exact solution's status already; releasing it
+  // would only spend iterations.
   Index n = 0;
-  for (NodeRecord& r : nodes_) {
-    if (r.hold == Hold::none && r.friction_hold == StickSlip::none) continue;
+  for (size_t j = 0; j < nodes_.size() && j < state_.pressure.size(); ++j) {
+    NodeRecord& r = nodes_[j];
+    const Constraint& c = constraints_[j];
+    const bool open_wrong = held_open(r.hold) && c.kind != ConstraintKind::none && c.gap < 0;
+    const bool closed_wrong = held_closed(r.hold) && state_.pressure[j] < 0;
+    const bool friction_wrong = r.friction_hold != StickSlip::none && j < state_.cone_excess.size() &&
+                                (r.friction_hold == StickSlip::stick ? state_.cone_excess[j] > 0 : state_.cone_excess[j] < 0);
+    if (!(open_wrong || closed_wrong || friction_wrong)) continue;
     ++n;
     if (r.hold != Hold::none) r.flips = s_.max_flips;
     if (r.friction_hold != StickSlip::none) r.friction_flips = s_.max_flips;

@@ -82,8 +82,9 @@ class ContactInterface {
   // After convergence: a node held closed that ends in tension is held open instead
   // (returns how many; Newton must go on then).
   Index fix_held_nodes();
-  // After convergence with nodes held by the chattering guard: releases every hold (returns
-  // how many nodes were held); a released node is held again at its next status change.
+  // After convergence with nodes held by the chattering guard: releases the holds the state
+  // does not satisfy exactly (returns how many); a released node is held again at its next
+  // status change.
   Index release_holds();
   // Held nodes whose final state violates the contact conditions (the increment is then not
   // a solution and is cut back): closed in tension, open and penetrating, or held in stick

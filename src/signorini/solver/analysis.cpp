@@ -518,16 +518,17 @@ Analysis::AfterConvergence Analysis::after_convergence(NewtonState& st, Incremen
       return AfterConvergence::fail;
     }
   // The chattering guard broke a cycle by holding nodes, and Newton converged with them
-  // held: a solution within the guard's tolerance, not the exact one. From this state, near
-  // the solution, the semi-smooth Newton method converges locally: the holds are released
-  // once and Newton goes on, so the result is the exact solution when the method reaches it
-  // (a node that flips again is held at its first flip, and that held state is accepted).
+  // held: a solution within the guard's tolerance, not necessarily the exact one. From this
+  // state, near the solution, the semi-smooth Newton method converges locally: the holds the
+  // state violates are released once and Newton goes on, so the result is the exact solution
+  // when the method reaches it (a node that flips again is held at its first flip, and that
+  // held state is accepted).
   if (!st.polished) {
     Index held = 0;
     for (auto& c : contacts_) held += c->release_holds();
     if (held > 0) {
       st.polished = true;
-      log::info("    converged with {} node(s) held by the chattering guard: released, Newton goes on", held);
+      log::info("    converged with {} node(s) held by the chattering guard in a status the state violates: released, Newton goes on", held);
       return AfterConvergence::iterate;
     }
   }
