@@ -64,6 +64,19 @@ const std::vector<Rule>& rules() {
          return std::string("node_to_node pairs slave nodes with master corner nodes and cannot use the mid-side nodes "
                             "of quadratic facets: use node_to_segment");
        }},
+      {"mortar in 3D",
+       [](const ContactCombination& c) { return c.discretization == "mortar" && !is_2d(c.dimension); },
+       "discretization",
+       [](const ContactCombination&) {
+         return std::string("mortar is available in 2D (plane strain, plane stress, axisymmetric) so far: use "
+                            "node_to_segment in 3D");
+       }},
+      {"mortar with friction",
+       [](const ContactCombination& c) { return c.discretization == "mortar" && c.friction != "none"; }, "friction",
+       [](const ContactCombination&) {
+         return std::string("mortar is frictionless so far (weighted slips are not built yet): use node_to_segment "
+                            "for friction");
+       }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {
          return c.discretization == "rigid_sphere" &&
@@ -116,8 +129,8 @@ const std::vector<Dimension> kDimensions = {Dimension::plane_strain, Dimension::
 const std::vector<ElementType> kFacets2D = {ElementType::line2, ElementType::line3};
 const std::vector<ElementType> kFacets3D = {ElementType::tri3, ElementType::tri6, ElementType::quad4, ElementType::quad8,
                                             ElementType::quad9};
-const std::vector<std::string> kDiscretizations = {"node_to_segment", "node_to_node", "rigid_plane", "rigid_cylinder",
-                                                   "rigid_sphere"};
+const std::vector<std::string> kDiscretizations = {"node_to_segment", "node_to_node", "mortar", "rigid_plane",
+                                                   "rigid_cylinder", "rigid_sphere"};
 const std::vector<std::string> kMethods = {"lagrange", "augmented_lagrangian", "penalty"};
 const std::vector<std::string> kFrictions = {"none", "coulomb", "tresca"};
 const std::vector<std::string> kSmoothings = {"none", "hermite"};
@@ -220,7 +233,7 @@ std::string contact_compatibility_text() {
   std::string s = "compatibility (one table; checked when a deck is read):\n";
   s += "  analysis:        plane strain, plane stress, axisymmetric, 3D\n";
   s += "  facets:          line2, line3 (2D); tri3, tri6, quad4, quad8, quad9 (3D)\n";
-  s += "  discretization:  node_to_segment (passes 1 or 2), node_to_node, rigid plane / cylinder / sphere\n";
+  s += "  discretization:  node_to_segment (passes 1 or 2), node_to_node, mortar, rigid plane / cylinder / sphere\n";
   s += "  enforcement:     lagrange, augmented_lagrangian, penalty\n";
   s += "  friction:        none, coulomb, tresca\n";
   s += "  smoothing:       none, hermite\n";

@@ -22,7 +22,7 @@ struct ContactCombination {
   Dimension dimension = Dimension::plane_strain;
   ElementType slave_facet = ElementType::line2;
   ElementType master_facet = ElementType::line2;  // ignored for a rigid obstacle
-  // node_to_segment, node_to_node, rigid_plane, rigid_cylinder, rigid_sphere
+  // node_to_segment, node_to_node, mortar, rigid_plane, rigid_cylinder, rigid_sphere
   std::string discretization = "node_to_segment";
   int passes = 1;
   std::string method = "lagrange";  // lagrange, augmented_lagrangian, penalty

@@ -34,7 +34,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     }
     slave_ = std::move(kept);
   }
-  discretization_ = make_discretization(s_, mesh, slave_, dim_);
+  discretization_ = make_discretization(s_, mesh, slave_, as);
   enforcement_ = make_enforcement(s_.method);
   // Mean edge of the slave and master surfaces (reference configuration).
   auto mean_edge = [&](const std::string& set) {

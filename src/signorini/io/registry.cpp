@@ -231,8 +231,10 @@ void register_deck_sections(Registry& r) {
                              "'describe rigid')", std::nullopt, ParamKind::any)),
           opt(text("slave", "slave facet set", std::nullopt)),
           opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave", std::nullopt, ParamKind::vector)),
-          choice("discretization", "node_to_segment (with node-to-vertex), or node_to_node (matching meshes)",
-                 {"node_to_segment", "node_to_node"}, "node_to_segment"),
+          choice("discretization",
+                 "node_to_segment (with node-to-edge and node-to-vertex), node_to_node (matching meshes), or mortar "
+                 "(segment-based dual mortar: weighted gaps per slave node; 2D, frictionless so far)",
+                 {"node_to_segment", "node_to_node", "mortar"}, "node_to_segment"),
           number("passes", "2: each surface is also slave of the other (node_to_segment)", "1", 1, 2),
           choice("smoothing", "node_to_segment: hermite = in 2D a C1 cubic master curve through the nodes, in 3D "
                               "bicubic patches on quad4 master facets (normal continuous across nodes and edges; "

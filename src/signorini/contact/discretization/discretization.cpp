@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/node_to_segment.hpp"
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
@@ -150,6 +151,170 @@ class NodeToNode final : public DeformableMaster {
   std::vector<Vec3> normal_;  // per slave node: the master node's normal, frozen at detection
 };
 
+
+// Dual mortar (2D, mortar.hpp): one weighted gap per slave node, integrated over the segments
+// of its slave facets against the master facets they overlap. The constraint's gap is
+// g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that
+// enforcement's force p w_j grad(g~_j / w_j) = p grad g~_j is the mortar virtual work with
+// the nodal pressure p as the dual multiplier.
+class Mortar final : public DeformableMaster {
+ public:
+  Mortar(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, const AnalysisSettings& as)
+      : DeformableMaster(s, mesh, slave, as.spatial_dim()) {
+    if (dim_ != 2) throw Error("contact '" + s.name + "': mortar is available in 2D only so far");
+    measure_.axisymmetric = as.dimension == Dimension::axisymmetric;
+    measure_.thickness = as.thickness;
+    slave_facets_ = make_master_surface(mesh, s.slave);
+    index_.assign(mesh.num_nodes(), -1);
+    for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
+    candidates_.assign(slave_facets_.size(), {});
+  }
+  std::string name() const override { return "mortar"; }
+
+  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+    std::vector<Index> closest;
+    search(x, dmax, closest);
+    // Per slave facet: the master facets whose bounding box meets the facet's, grown by dmax,
+    // reached from the closest master facets of its nodes through shared nodes.
+    auto box = [&](const std::vector<Index>& nodes, Vec3& lo, Vec3& hi) {
+      lo = hi = x[nodes[0]];
+      for (Index n : nodes) lo = lo.cwiseMin(x[n]), hi = hi.cwiseMax(x[n]);
+    };
+    for (Index e = 0; e < slave_facets_.size(); ++e) {
+      const auto& sf = slave_facets_.facets[e];
+      std::vector<Index> queue;
+      bool was_tracked = false;
+      for (Index n : sf) {
+        const Index j = index_[n];
+        if (j < 0) continue;
+        if (closest[j] >= 0) queue.push_back(closest[j]);
+        was_tracked = was_tracked || tracked[j];
+      }
+      if (queue.empty()) {
+        if (!was_tracked) candidates_[e].clear();
+        continue;
+      }
+      Vec3 lo, hi;
+      box(sf, lo, hi);
+      lo.array() -= dmax;
+      hi.array() += dmax;
+      std::set<Index> seen(queue.begin(), queue.end()), accepted;
+      while (!queue.empty()) {
+        const Index f = queue.back();
+        queue.pop_back();
+        Vec3 flo, fhi;
+        box(master_.facets[f], flo, fhi);
+        if ((flo.array() > hi.array()).any() || (fhi.array() < lo.array()).any()) continue;
+        accepted.insert(f);
+        for (Index g : master_.neighbourhood(f))
+          if (seen.insert(g).second) queue.push_back(g);
+      }
+      candidates_[e].assign(accepted.begin(), accepted.end());
+    }
+  }
+
+  void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
+    const Index node = slave_.nodes[j];
+    std::set<Index> around;
+    for (Index e : slave_facets_.node_facets[node]) {
+      for (Index n : slave_facets_.facets[e])
+        for (Index f : slave_facets_.node_facets[n])
+          for (Index m : slave_facets_.facets[f]) around.insert(m);
+      for (Index f : candidates_[e])
+        for (Index m : master_.facets[f]) around.insert(m);
+    }
+    around.erase(node);
+    nodes.assign(1, node);
+    nodes.insert(nodes.end(), around.begin(), around.end());
+  }
+
+  void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
+    out = open_constraints(slave_);
+    const Index ne = slave_facets_.size();
+    std::vector<std::vector<std::pair<Index, MortarFacetResult>>> results(ne);
+#pragma omp parallel for schedule(dynamic, 8)
+    for (Index e = 0; e < ne; ++e)
+      for (Index m : candidates_[e]) {
+        MortarFacetResult r = mortar_facet_2d(slave_facets_, e, master_, m, x, measure_, true);
+        if (r.overlap) results[e].emplace_back(m, std::move(r));
+      }
+    // Each slave node's constraint gathers the shares of its facets' segments.
+    const int dim = dim_;
+    auto column = [](Constraint& c, Index node) {
+      auto it = std::find(c.nodes.begin(), c.nodes.end(), node);
+      if (it != c.nodes.end()) return static_cast<Index>(it - c.nodes.begin());
+      c.nodes.push_back(node);
+      return static_cast<Index>(c.nodes.size() - 1);
+    };
+    std::vector<std::vector<Index>> place;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (Index e = 0; e < ne; ++e)
+        for (const auto& [m, r] : results[e])
+          for (size_t k = 0; k < r.gap.size(); ++k) {
+            const Index j = index_[slave_facets_.facets[e][k]];
+            if (j < 0) continue;
+            Constraint& c = out[j];
+            if (pass == 0) {
+              if (c.kind == ConstraintKind::none) {
+                c.kind = ConstraintKind::segment;
+                c.facet = m;
+                c.nodes.assign(1, c.slave);
+              }
+              for (Index n : r.nodes) column(c, n);
+              continue;
+            }
+            place.assign(1, {});
+            std::vector<Index>& at = place[0];
+            for (Index n : r.nodes) at.push_back(column(c, n));
+            c.gap += r.gap[k];
+            for (size_t a = 0; a < at.size(); ++a) {
+              c.grad.segment(at[a] * dim, dim) += r.grad[k].segment(static_cast<Index>(a) * dim, dim);
+              for (size_t b = 0; b < at.size(); ++b)
+                c.hess.block(at[a] * dim, at[b] * dim, dim, dim) +=
+                    r.hess[k].block(static_cast<Index>(a) * dim, static_cast<Index>(b) * dim, dim, dim);
+            }
+          }
+      if (pass == 0)
+        for (Constraint& c : out)
+          if (c.kind != ConstraintKind::none) {
+            const Index n = static_cast<Index>(c.nodes.size()) * dim;
+            c.gap = 0;
+            c.grad.setZero(n);
+            c.hess.setZero(n, n);
+          }
+    }
+    // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
+    // to point from the master towards the slave (as a master normal does).
+    for (Constraint& c : out) {
+      if (c.kind == ConstraintKind::none) continue;
+      if (!(c.weight > 0)) {
+        Constraint open;
+        open.slave = c.slave;
+        open.weight = c.weight;
+        c = std::move(open);
+        continue;
+      }
+      c.gap /= c.weight;
+      c.grad /= c.weight;
+      c.hess /= c.weight;
+      Vec3 n;
+      std::vector<Index> nn;
+      MatX dn;
+      mortar_nodal_normal_2d(slave_facets_, c.slave, x, n, nn, dn);
+      c.normal = -n;
+      c.normal_jacobian.setZero(dim, c.grad.size());
+      for (size_t a = 0; a < nn.size(); ++a)
+        c.normal_jacobian.middleCols(column(c, nn[a]) * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
+    }
+  }
+
+ private:
+  MortarMeasure measure_;
+  MasterSurface slave_facets_;
+  std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
+  std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
+};
+
 // A rigid analytic obstacle, displaced by its own dim unknowns: no search, no master nodes.
 class RigidObstacleContact final : public Discretization {
  public:
@@ -196,10 +361,12 @@ class RigidObstacleContact final : public Discretization {
 }  // namespace
 
 std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
-                                                    const SlaveSurface& slave, int dim) {
+                                                    const SlaveSurface& slave, const AnalysisSettings& as) {
+  const int dim = as.spatial_dim();
   if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
+  if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);
   throw Error("contact '" + s.name + "': unknown discretization '" + s.discretization + "'");
 }
 

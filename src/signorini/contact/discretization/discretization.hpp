@@ -57,6 +57,6 @@ class Discretization {
 // The discretization the settings name (a rigid obstacle when s.rigid), for the given slave
 // surface; the master surface is built from the mesh.
 std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
-                                                    const SlaveSurface& slave, int dim);
+                                                    const SlaveSurface& slave, const AnalysisSettings& as);
 
 }  // namespace signorini
