@@ -35,6 +35,8 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     slave_ = std::move(kept);
   }
   discretization_ = make_discretization(s_, mesh, slave_, as);
+  is_slave_.assign(mesh.num_nodes(), 0);
+  for (Index n : slave_.nodes) is_slave_[n] = 1;
   enforcement_ = make_enforcement(s_.method);
   // Mean edge of the slave and master surfaces (reference configuration).
   auto mean_edge = [&](const std::string& set) {
@@ -329,6 +331,23 @@ Index ContactInterface::frozen_in_tension() const {
   return n;
 }
 
+Vec3 ContactInterface::slave_force() const {
+  // The normal part: p w dg/dx over the pair's slave nodes (node-to-segment: p w n on the slave
+  // node, n the master normal; mortar: the weighted gap's variation over the slave facets'
+  // nodes). Friction pulls the slave by -t per unit area.
+  Vec3 f = Vec3::Zero();
+  for (size_t j = 0; j < constraints_.size() && j < state_.pressure.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    if (c.kind == ConstraintKind::none) continue;
+    for (size_t k = 0; k < c.nodes.size(); ++k)
+      if (is_slave_[c.nodes[k]])
+        f.head(dim_) += state_.pressure[j] * c.weight * c.grad.segment(static_cast<Index>(k) * dim_, dim_);
+    if (frictional() && j < state_.active.size() && state_.active[j] && c.has_slip)
+      f -= c.weight * state_.traction[j];
+  }
+  return f;
+}
+
 ContactStats ContactInterface::commit() {
   ContactStats st;
   st.label = label_;
@@ -345,9 +364,9 @@ ContactStats ContactInterface::commit() {
     const Constraint& c = constraints_[j];
     if (c.kind != ConstraintKind::none) {
       st.max_penetration = std::max(st.max_penetration, -c.gap);
-      st.force += state_.pressure[j] * c.weight * c.normal;  // on the slave side, along the master normal
     }
   }
+  st.force = slave_force();
   enforcement_->end_increment(constraints_, state_, nodes_);
   if (frictional())
     for (size_t j = 0; j < constraints_.size(); ++j) {
@@ -364,7 +383,6 @@ ContactStats ContactInterface::commit() {
         st.changed_nodes.push_back(slave_.nodes[j]);
       }
       r.committed_friction = now;
-      if (closed) st.force -= c.weight * state_.traction[j];  // friction on the slave side
     }
   return st;
 }

@@ -93,6 +93,8 @@ class ContactInterface {
   Index frozen_in_tension() const;
   // After a converged increment: statistics against the previous increment.
   ContactStats commit();
+  // The total contact force on the slave side at the last assembly.
+  Vec3 slave_force() const;
 
   // The state of each slave node for output (the numbers are the output's status codes).
   enum Status : int { far = 0, open = 1, closed = 2, slipping = 3 };  // closed: sticking, with friction
@@ -135,6 +137,7 @@ class ContactInterface {
   EnforcementOutput state_;       // of the last assembly
   std::vector<NodeRecord> nodes_;  // per slave node
   Index frozen_reported_ = 0;
+  std::vector<char> is_slave_;  // per mesh node: a slave node of this pair (pass)
   bool pressure_reported_ = false;  // set_reported_pressure was called (else the multipliers are reported)
   static constexpr Real kHeldFrictionTolerance = 0.02;     // of the bound
   static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h

@@ -116,12 +116,7 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
           if (d < bd) bd = d, r.computed = st.pressure[j];
         }
       } else if (c.kind == "contact_force") {
-        for (size_t j = 0; j < cs.size(); ++j) {
-          if (cs[j].kind == ConstraintKind::none) continue;
-          r.computed += st.pressure[j] * cs[j].weight * cs[j].normal(c.component);
-          // Friction: the slave is pulled by -t per unit area.
-          if (j < st.traction.size() && st.active[j]) r.computed -= cs[j].weight * st.traction[j](c.component);
-        }
+        r.computed = ci->slave_force()(c.component);
       } else {
         // Half-width: on each side of `at`, midway between the outermost closed node and the
         // nearest open one beyond (stick zone: the outermost sticking node and the nearest
