@@ -3,6 +3,7 @@
 // test and the long refinement study.
 #pragma once
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
@@ -17,6 +18,7 @@ struct HertzRun {
   std::vector<CheckResult> checks;
   AnalysisSummary summary;
   Vec3 obstacle_displacement = Vec3::Zero();  // of the last rigid obstacle, if any
+  Real min_closed_pressure = 0;                // the smallest written pressure of a closed slave node
 };
 
 // `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
@@ -37,12 +39,17 @@ inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) 
   out.checks = evaluate_checks(a);
   for (auto& c : a.contacts())
     if (c->rigid()) out.obstacle_displacement = a.obstacle_displacement(*c);
+  out.min_closed_pressure = std::numeric_limits<Real>::infinity();
+  for (auto& c : a.contacts())
+    for (const auto& ns : c->slave_states())
+      if (ns.status == ContactInterface::closed) out.min_closed_pressure = std::min(out.min_closed_pressure, ns.pressure);
   fs::remove(tmp);
   return out;
 }
 
-// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}".
-inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "") {
+// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}"; `order` > 0
+// raises the mesh to that order.
+inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "", int order = 0) {
   namespace fs = std::filesystem;
   const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
   std::ifstream in(src);
@@ -52,6 +59,7 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
   const size_t p = deck.find("hc: ");
   const size_t e = deck.find_first_of(",}", p);
   deck.replace(p, e - p, "hc: " + std::to_string(hc));
+  if (order > 0) deck.insert(deck.find('}', p) + 1, ", order: " + std::to_string(order));
   if (!enforcement.empty()) {
     const size_t q = deck.find("enforcement: {method: lagrange}");
     if (q != std::string::npos) deck.replace(q, std::string("enforcement: {method: lagrange}").size(), enforcement);

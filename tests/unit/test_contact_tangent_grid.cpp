@@ -255,6 +255,18 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   two.passes = 2;
   two.friction = "coulomb";
   EXPECT_EQ(check_contact_combination(two).key, "friction");
+  ContactCombination mortar3d;
+  mortar3d.discretization = "mortar";
+  mortar3d.dimension = Dimension::three_d;
+  mortar3d.slave_facet = mortar3d.master_facet = ElementType::tri3;
+  EXPECT_NE(check_contact_combination(mortar3d).message.find("2D"), std::string::npos);
+  EXPECT_EQ(check_contact_combination(mortar3d).key, "discretization");
+  ContactCombination mortar_friction;
+  mortar_friction.discretization = "mortar";
+  mortar_friction.friction = "coulomb";
+  EXPECT_EQ(check_contact_combination(mortar_friction).key, "friction");
+  mortar_friction.friction = "none";
+  EXPECT_TRUE(check_contact_combination(mortar_friction).message.empty());
   ContactCombination smooth;
   smooth.smoothing = "hermite";
   smooth.master_facet = ElementType::line3;

@@ -226,6 +226,20 @@ Index ContactInterface::fix_held_nodes() {
   return changed;
 }
 
+Index ContactInterface::hold_touching(const std::vector<Vec3>& x, const VecX& z) {
+  if (!uses_multipliers()) return 0;
+  build_constraints(x, z);
+  Index n = 0;
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    const Constraint& c = constraints_[j];
+    if (c.kind == ConstraintKind::none || !(c.gap > 0) || c.gap > 1e-6 * nodes_[j].size) continue;
+    nodes_[j].hold = Hold::closed;
+    ++n;
+  }
+  if (n) log::info("contact '{}': {} slave node(s) touching to within 1e-6 of their facet size start closed", label_, n);
+  return n;
+}
+
 Index ContactInterface::release_holds() {
   // Only holds the converged state does not satisfy exactly are released: a node held closed
   // in tension, held open and penetrating, held in stick outside the friction disc or in slip

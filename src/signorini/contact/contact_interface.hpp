@@ -82,6 +82,11 @@ class ContactInterface {
   // After convergence: a node held closed that ends in tension is held open instead
   // (returns how many; Newton must go on then).
   Index fix_held_nodes();
+  // Holds closed the slave nodes whose gap is in (0, 1e-6 h] (h: their facet size) at
+  // positions x, for the increment: "touching" whose sign is the discretization's, not the
+  // geometry's (mortar's weighted gap of a node at the contact point of a curved body is of
+  // that size, either sign). Lagrange multipliers only; returns how many.
+  Index hold_touching(const std::vector<Vec3>& x, const VecX& z);
   // After convergence with nodes held by the chattering guard: releases the holds the state
   // does not satisfy exactly (returns how many); a released node is held again at its next
   // status change.

@@ -446,6 +446,11 @@ void Analysis::begin_contact_increment(Real lambda) {
   detect_contact(step);
   const std::vector<Vec3> x0 = positions(u_converged_);
   for (auto& c : contacts_) c->begin_increment(x0, u_converged_);
+  // The first increment from the undeformed state: slave nodes that touch their master to
+  // within 1e-6 of their facet size start closed (a body held only by contact then has its
+  // support; the hold is released after convergence if it ends in tension).
+  if (summary_.increments.empty() && u_converged_.isZero(0))
+    for (auto& c : contacts_) c->hold_touching(x0, u_converged_);
   rebuild_pattern();
   summary_.contact_seconds += tc.seconds();
 }
