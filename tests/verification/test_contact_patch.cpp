@@ -252,3 +252,4 @@ TEST(ContactPatch, MortarIsExact) {
         }
       }
 }
+

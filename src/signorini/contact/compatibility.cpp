@@ -43,16 +43,17 @@ const std::vector<Rule>& rules() {
          return fmt::format("a {} analysis needs {} facets on its contact surfaces", dimension_name(c.dimension),
                             is_2d(c.dimension) ? "line" : "triangle or quadrilateral");
        }},
-      {"tri6 or quad8 slave facets (two passes: on either surface)",
+      {"tri6 or quad8 slave facets other than segment_to_segment (two passes: on either surface)",
        [](const ContactCombination& c) {
          auto bad = [](ElementType t) { return t == ElementType::tri6 || t == ElementType::quad8; };
-         return bad(c.slave_facet) || (c.passes == 2 && bad(c.master_facet));
+         return c.discretization != "segment_to_segment" && (bad(c.slave_facet) || (c.passes == 2 && bad(c.master_facet)));
        },
        "slave",
        [](const ContactCombination&) {
          return std::string(
              "tri6 and quad8 slave facets give their corner nodes a zero or negative share of the contact area (the "
-             "integrals of their shape functions), which a node-based discretization cannot use: make the quadratic "
+             "integrals of their shape functions), which a node-based discretization cannot use: use "
+             "discretization: segment_to_segment (its modified dual basis has positive weights), make the quadratic "
              "side master, or use tri3, quad4 or quad9 (3D), line2 or line3 (2D) slave facets");
        }},
       {"node_to_node with quadratic facets",
@@ -76,6 +77,13 @@ const std::vector<Rule>& rules() {
        [](const ContactCombination&) {
          return std::string("mortar is frictionless so far (weighted slips are not built yet): use node_to_segment "
                             "for friction");
+       }},
+      {"segment_to_segment with friction",
+       [](const ContactCombination& c) { return c.discretization == "segment_to_segment" && c.friction != "none"; },
+       "friction",
+       [](const ContactCombination&) {
+         return std::string("segment_to_segment is frictionless so far (weighted slips are not built yet): use "
+                            "node_to_segment for friction");
        }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {
@@ -129,8 +137,8 @@ const std::vector<Dimension> kDimensions = {Dimension::plane_strain, Dimension::
 const std::vector<ElementType> kFacets2D = {ElementType::line2, ElementType::line3};
 const std::vector<ElementType> kFacets3D = {ElementType::tri3, ElementType::tri6, ElementType::quad4, ElementType::quad8,
                                             ElementType::quad9};
-const std::vector<std::string> kDiscretizations = {"node_to_segment", "node_to_node", "mortar", "rigid_plane",
-                                                   "rigid_cylinder", "rigid_sphere"};
+const std::vector<std::string> kDiscretizations = {"node_to_segment", "node_to_node", "mortar", "segment_to_segment",
+                                                   "rigid_plane", "rigid_cylinder", "rigid_sphere"};
 const std::vector<std::string> kMethods = {"lagrange", "augmented_lagrangian", "penalty"};
 const std::vector<std::string> kFrictions = {"none", "coulomb", "tresca"};
 const std::vector<std::string> kSmoothings = {"none", "hermite"};
@@ -233,7 +241,7 @@ std::string contact_compatibility_text() {
   std::string s = "compatibility (one table; checked when a deck is read):\n";
   s += "  analysis:        plane strain, plane stress, axisymmetric, 3D\n";
   s += "  facets:          line2, line3 (2D); tri3, tri6, quad4, quad8, quad9 (3D)\n";
-  s += "  discretization:  node_to_segment (passes 1 or 2), node_to_node, mortar, rigid plane / cylinder / sphere\n";
+  s += "  discretization:  node_to_segment (passes 1 or 2), node_to_node, mortar, segment_to_segment, rigid plane / cylinder / sphere\n";
   s += "  enforcement:     lagrange, augmented_lagrangian, penalty\n";
   s += "  friction:        none, coulomb, tresca\n";
   s += "  smoothing:       none, hermite\n";

@@ -15,7 +15,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   check_contact_pair(s_, mesh, as.dimension);  // the compatibility table (the deck reader checked it with the place)
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
-  slave_ = make_slave_surface(mesh, s_.slave, as);
+  slave_ = make_slave_surface(mesh, s_.slave, as, s_.discretization == "segment_to_segment" && !s_.rigid);
   if (second_pass) {
     // A node that coincides with a node of the other surface carries the same constraint in
     // both passes: keep it once (twice makes the multiplier system singular).

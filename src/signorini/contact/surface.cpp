@@ -5,6 +5,7 @@
 #include <optional>
 #include <map>
 
+#include "signorini/contact/discretization/segment_to_segment.hpp"
 #include "signorini/contact/geometry/facet_projection.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/fem/quadrature.hpp"
@@ -226,7 +227,8 @@ MasterSurface make_master_surface(const Mesh& mesh, const std::string& set) {
   return m;
 }
 
-SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const AnalysisSettings& settings) {
+SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const AnalysisSettings& settings,
+                                bool modified_basis) {
   const int dim = settings.spatial_dim();
   std::vector<Real> w(mesh.num_nodes(), 0.0);
   std::vector<char> used(mesh.num_nodes(), 0);
@@ -239,6 +241,8 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
         VecX N;
         MatX dN;
         shape_functions(b.type, q.xi, N, dN);
+        VecX Nw = N;
+        if (modified_basis) modified_shape_functions(b.type, N, Nw);
         Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero(), x = Vec3::Zero();
         for (int i = 0; i < info.num_nodes; ++i) {
           x += N(i) * mesh.nodes[c[i]];
@@ -248,7 +252,7 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
         Real da = (dim == 2 ? a1.norm() : a1.cross(a2).norm()) * q.weight;
         if (settings.dimension == Dimension::axisymmetric) da *= 2 * std::numbers::pi * x(0);
         else if (dim == 2) da *= settings.thickness;
-        for (int i = 0; i < info.num_nodes; ++i) w[c[i]] += N(i) * da;
+        for (int i = 0; i < info.num_nodes; ++i) w[c[i]] += Nw(i) * da;
       }
       for (int i = 0; i < info.num_nodes; ++i) used[c[i]] = 1;
     }
@@ -259,7 +263,8 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
       if (!(w[n] > 0) && !(settings.dimension == Dimension::axisymmetric && std::abs(mesh.nodes[n](0)) < 1e-12))
         throw Error("slave surface '" + set + "': node " + std::to_string(mesh.node_ids[n]) +
                     " gets a non-positive contact area from its facets (tri6 and quad8 corner nodes do): "
-                    "node-to-segment needs linear facets (line2, tri3, quad4) or line3/quad9 on the slave side");
+                    "node-to-segment needs linear facets (line2, tri3, quad4) or line3/quad9 on the slave side "
+                    "(segment_to_segment takes every facet type)");
       s.nodes.push_back(n);
       s.weights.push_back(w[n]);
     }

@@ -54,7 +54,10 @@ struct SlaveSurface {
 ConstraintSet open_constraints(const SlaveSurface& slave);
 
 MasterSurface make_master_surface(const Mesh& mesh, const std::string& facet_set);
-// Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8).
-SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& facet_set, const AnalysisSettings& settings);
+// Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8), unless
+// `modified_basis`: the weights are then the integrals of the modified basis of
+// segment_to_segment.hpp (positive for every facet type).
+SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& facet_set, const AnalysisSettings& settings,
+                                bool modified_basis = false);
 
 }  // namespace signorini

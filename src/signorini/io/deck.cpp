@@ -558,7 +558,7 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
     }
     // Slave facets must give every node a positive contact area (checked here, with the place).
     try {
-      make_slave_surface(m.mesh, cs.slave, m.settings);
+      make_slave_surface(m.mesh, cs.slave, m.settings, cs.discretization == "segment_to_segment" && !cs.rigid);
       if (cs.passes == 2) make_slave_surface(m.mesh, cs.master, m.settings);
     } catch (const Error& e) {
       c.fail(e.what());

@@ -233,8 +233,10 @@ void register_deck_sections(Registry& r) {
           opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave", std::nullopt, ParamKind::vector)),
           choice("discretization",
                  "node_to_segment (with node-to-edge and node-to-vertex), node_to_node (matching meshes), or mortar "
-                 "(segment-based dual mortar: weighted gaps per slave node; 2D, frictionless so far)",
-                 {"node_to_segment", "node_to_node", "mortar"}, "node_to_segment"),
+                 "(segment-based dual mortar: weighted gaps per slave node; 2D, frictionless so far), or segment_to_segment "
+                 "(the slave facets' Gauss points projected on the master, gathered per slave node with dual weights; "
+                 "2D and 3D, every facet type incl. tri6 and quad8, frictionless so far)",
+                 {"node_to_segment", "node_to_node", "mortar", "segment_to_segment"}, "node_to_segment"),
           number("passes", "2: each surface is also slave of the other (node_to_segment)", "1", 1, 2),
           choice("smoothing", "node_to_segment: hermite = in 2D a C1 cubic master curve through the nodes, in 3D "
                               "bicubic patches on quad4 master facets (normal continuous across nodes and edges; "

@@ -5,6 +5,7 @@
 
 #include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/node_to_segment.hpp"
+#include "signorini/contact/discretization/segment_to_segment.hpp"
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
 #include "signorini/core/error.hpp"
@@ -78,6 +79,125 @@ class DeformableMaster : public Discretization {
     search_->closest(pts, dmax, hits);
     facet.resize(pts.size());
     for (size_t j = 0; j < pts.size(); ++j) facet[j] = hits[j].facet;
+  }
+
+  // Per slave facet of `sf`: the master facets whose bounding box meets the facet's, grown by
+  // dmax, reached from the closest master facets of its nodes through shared nodes (a facet
+  // whose nodes found none keeps its list while one of them is tracked).
+  void facet_candidates(const MasterSurface& sf, const std::vector<Index>& index, const std::vector<Vec3>& x,
+                        Real dmax, const std::vector<char>& tracked, std::vector<std::vector<Index>>& out) {
+    std::vector<Index> closest;
+    search(x, dmax, closest);
+    auto box = [&](const std::vector<Index>& nodes, Vec3& lo, Vec3& hi) {
+      lo = hi = x[nodes[0]];
+      for (Index n : nodes) lo = lo.cwiseMin(x[n]), hi = hi.cwiseMax(x[n]);
+    };
+    out.resize(sf.size());
+    for (Index e = 0; e < sf.size(); ++e) {
+      const auto& nodes = sf.facets[e];
+      std::vector<Index> queue;
+      bool was_tracked = false;
+      for (Index n : nodes) {
+        const Index j = index[n];
+        if (j < 0) continue;
+        if (closest[j] >= 0) queue.push_back(closest[j]);
+        was_tracked = was_tracked || tracked[j];
+      }
+      if (queue.empty()) {
+        if (!was_tracked) out[e].clear();
+        continue;
+      }
+      Vec3 lo, hi;
+      box(nodes, lo, hi);
+      lo.array() -= dmax;
+      hi.array() += dmax;
+      std::set<Index> seen(queue.begin(), queue.end()), accepted;
+      while (!queue.empty()) {
+        const Index f = queue.back();
+        queue.pop_back();
+        Vec3 flo, fhi;
+        box(master_.facets[f], flo, fhi);
+        if ((flo.array() > hi.array()).any() || (fhi.array() < lo.array()).any()) continue;
+        accepted.insert(f);
+        for (Index g : master_.neighbourhood(f))
+          if (seen.insert(g).second) queue.push_back(g);
+      }
+      out[e].assign(accepted.begin(), accepted.end());
+    }
+  }
+
+  // The nodes slave node j's weighted gap may involve: the nodes of the slave facets around
+  // it (with `ring`, also of the facets around those nodes: averaged normals) and of their
+  // candidate master facets.
+  void facet_coupled_nodes(const MasterSurface& sf, const std::vector<std::vector<Index>>& candidates, Index node,
+                           bool ring, std::vector<Index>& nodes) const {
+    std::set<Index> around;
+    for (Index e : sf.node_facets[node]) {
+      for (Index n : sf.facets[e]) {
+        around.insert(n);
+        if (ring)
+          for (Index f : sf.node_facets[n])
+            for (Index m : sf.facets[f]) around.insert(m);
+      }
+      for (Index f : candidates[e])
+        for (Index m : master_.basis_nodes(f)) around.insert(m);
+    }
+    around.erase(node);
+    nodes.assign(1, node);
+    nodes.insert(nodes.end(), around.begin(), around.end());
+  }
+
+  // Adds per-facet shares of weighted gaps (R: nodes, gap[k], grad[k], hess[k] per facet node
+  // k over `nodes`) into the constraints of the facets' slave nodes; a constraint that got a
+  // share becomes a segment constraint against `facet[e]`.
+  template <class R>
+  void gather(const MasterSurface& sf, const std::vector<Index>& index, const std::vector<std::vector<R>>& results,
+              const std::vector<std::vector<Index>>& facet, ConstraintSet& out) const {
+    const int dim = dim_;
+    auto column = [](Constraint& c, Index node) {
+      auto it = std::find(c.nodes.begin(), c.nodes.end(), node);
+      if (it != c.nodes.end()) return static_cast<Index>(it - c.nodes.begin());
+      c.nodes.push_back(node);
+      return static_cast<Index>(c.nodes.size() - 1);
+    };
+    std::vector<Index> at;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (Index e = 0; e < sf.size(); ++e)
+        for (size_t r = 0; r < results[e].size(); ++r) {
+          const R& res = results[e][r];
+          for (size_t k = 0; k < res.gap.size(); ++k) {
+            const Index j = index[sf.facets[e][k]];
+            if (j < 0) continue;
+            Constraint& c = out[j];
+            if (pass == 0) {
+              if (c.kind == ConstraintKind::none) {
+                c.kind = ConstraintKind::segment;
+                c.facet = facet[e][r];
+                c.nodes.assign(1, c.slave);
+              }
+              for (Index n : res.nodes) column(c, n);
+              continue;
+            }
+            at.clear();
+            for (Index n : res.nodes) at.push_back(column(c, n));
+            c.gap += res.gap[k];
+            for (size_t a = 0; a < at.size(); ++a) {
+              c.grad.segment(at[a] * dim, dim) += res.grad[k].segment(static_cast<Index>(a) * dim, dim);
+              for (size_t b = 0; b < at.size(); ++b)
+                c.hess.block(at[a] * dim, at[b] * dim, dim, dim) +=
+                    res.hess[k].block(static_cast<Index>(a) * dim, static_cast<Index>(b) * dim, dim, dim);
+            }
+          }
+        }
+      if (pass == 0)
+        for (Constraint& c : out)
+          if (c.kind != ConstraintKind::none) {
+            const Index n = static_cast<Index>(c.nodes.size()) * dim;
+            c.gap = 0;
+            c.grad.setZero(n);
+            c.hess.setZero(n, n);
+          }
+    }
   }
 
   SlaveSurface slave_;
@@ -172,117 +292,31 @@ class Mortar final : public DeformableMaster {
   std::string name() const override { return "mortar"; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
-    std::vector<Index> closest;
-    search(x, dmax, closest);
-    // Per slave facet: the master facets whose bounding box meets the facet's, grown by dmax,
-    // reached from the closest master facets of its nodes through shared nodes.
-    auto box = [&](const std::vector<Index>& nodes, Vec3& lo, Vec3& hi) {
-      lo = hi = x[nodes[0]];
-      for (Index n : nodes) lo = lo.cwiseMin(x[n]), hi = hi.cwiseMax(x[n]);
-    };
-    for (Index e = 0; e < slave_facets_.size(); ++e) {
-      const auto& sf = slave_facets_.facets[e];
-      std::vector<Index> queue;
-      bool was_tracked = false;
-      for (Index n : sf) {
-        const Index j = index_[n];
-        if (j < 0) continue;
-        if (closest[j] >= 0) queue.push_back(closest[j]);
-        was_tracked = was_tracked || tracked[j];
-      }
-      if (queue.empty()) {
-        if (!was_tracked) candidates_[e].clear();
-        continue;
-      }
-      Vec3 lo, hi;
-      box(sf, lo, hi);
-      lo.array() -= dmax;
-      hi.array() += dmax;
-      std::set<Index> seen(queue.begin(), queue.end()), accepted;
-      while (!queue.empty()) {
-        const Index f = queue.back();
-        queue.pop_back();
-        Vec3 flo, fhi;
-        box(master_.facets[f], flo, fhi);
-        if ((flo.array() > hi.array()).any() || (fhi.array() < lo.array()).any()) continue;
-        accepted.insert(f);
-        for (Index g : master_.neighbourhood(f))
-          if (seen.insert(g).second) queue.push_back(g);
-      }
-      candidates_[e].assign(accepted.begin(), accepted.end());
-    }
+    facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
   }
 
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
-    const Index node = slave_.nodes[j];
-    std::set<Index> around;
-    for (Index e : slave_facets_.node_facets[node]) {
-      for (Index n : slave_facets_.facets[e])
-        for (Index f : slave_facets_.node_facets[n])
-          for (Index m : slave_facets_.facets[f]) around.insert(m);
-      for (Index f : candidates_[e])
-        for (Index m : master_.facets[f]) around.insert(m);
-    }
-    around.erase(node);
-    nodes.assign(1, node);
-    nodes.insert(nodes.end(), around.begin(), around.end());
+    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], true, nodes);
   }
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
     out = open_constraints(slave_);
     const Index ne = slave_facets_.size();
-    std::vector<std::vector<std::pair<Index, MortarFacetResult>>> results(ne);
+    std::vector<std::vector<MortarFacetResult>> results(ne);
+    std::vector<std::vector<Index>> facet(ne);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e)
       for (Index m : candidates_[e]) {
         MortarFacetResult r = mortar_facet_2d(slave_facets_, e, master_, m, x, measure_, true);
-        if (r.overlap) results[e].emplace_back(m, std::move(r));
+        if (!r.overlap) continue;
+        results[e].push_back(std::move(r));
+        facet[e].push_back(m);
       }
-    // Each slave node's constraint gathers the shares of its facets' segments.
+    gather(slave_facets_, index_, results, facet, out);
     const int dim = dim_;
     auto column = [](Constraint& c, Index node) {
-      auto it = std::find(c.nodes.begin(), c.nodes.end(), node);
-      if (it != c.nodes.end()) return static_cast<Index>(it - c.nodes.begin());
-      c.nodes.push_back(node);
-      return static_cast<Index>(c.nodes.size() - 1);
+      return static_cast<Index>(std::find(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin());
     };
-    std::vector<std::vector<Index>> place;
-    for (int pass = 0; pass < 2; ++pass) {
-      for (Index e = 0; e < ne; ++e)
-        for (const auto& [m, r] : results[e])
-          for (size_t k = 0; k < r.gap.size(); ++k) {
-            const Index j = index_[slave_facets_.facets[e][k]];
-            if (j < 0) continue;
-            Constraint& c = out[j];
-            if (pass == 0) {
-              if (c.kind == ConstraintKind::none) {
-                c.kind = ConstraintKind::segment;
-                c.facet = m;
-                c.nodes.assign(1, c.slave);
-              }
-              for (Index n : r.nodes) column(c, n);
-              continue;
-            }
-            place.assign(1, {});
-            std::vector<Index>& at = place[0];
-            for (Index n : r.nodes) at.push_back(column(c, n));
-            c.gap += r.gap[k];
-            for (size_t a = 0; a < at.size(); ++a) {
-              c.grad.segment(at[a] * dim, dim) += r.grad[k].segment(static_cast<Index>(a) * dim, dim);
-              for (size_t b = 0; b < at.size(); ++b)
-                c.hess.block(at[a] * dim, at[b] * dim, dim, dim) +=
-                    r.hess[k].block(static_cast<Index>(a) * dim, static_cast<Index>(b) * dim, dim, dim);
-            }
-          }
-      if (pass == 0)
-        for (Constraint& c : out)
-          if (c.kind != ConstraintKind::none) {
-            const Index n = static_cast<Index>(c.nodes.size()) * dim;
-            c.gap = 0;
-            c.grad.setZero(n);
-            c.hess.setZero(n, n);
-          }
-    }
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
     for (Constraint& c : out) {
@@ -303,8 +337,11 @@ class Mortar final : public DeformableMaster {
       mortar_nodal_normal_2d(slave_facets_, c.slave, x, n, nn, dn);
       c.normal = -n;
       c.normal_jacobian.setZero(dim, c.grad.size());
-      for (size_t a = 0; a < nn.size(); ++a)
-        c.normal_jacobian.middleCols(column(c, nn[a]) * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
+      for (size_t a = 0; a < nn.size(); ++a) {
+        const Index k = column(c, nn[a]);  // the normal's nodes are among the weighted gap's
+        if (k < static_cast<Index>(c.nodes.size()))
+          c.normal_jacobian.middleCols(k * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
+      }
     }
   }
 
@@ -313,6 +350,73 @@ class Mortar final : public DeformableMaster {
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
+};
+
+// Segment-to-segment by integration points (segment_to_segment.hpp): each slave facet's Gauss
+// points projected onto the master, their gaps gathered per slave node with the dual shape
+// functions (on the modified basis for tri6 and quad8). The constraint's gap is g~_j / w_j,
+// w_j = int N~_j dA0 (the slave surface's weights, computed on the modified basis).
+class SegmentToSegment final : public DeformableMaster {
+ public:
+  SegmentToSegment(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, const AnalysisSettings& as)
+      : DeformableMaster(s, mesh, slave, as.spatial_dim()) {
+    slave_facets_ = make_master_surface(mesh, s.slave);
+    index_.assign(mesh.num_nodes(), -1);
+    for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
+    candidates_.assign(slave_facets_.size(), {});
+    for (Index e = 0; e < slave_facets_.size(); ++e)
+      integration_.push_back(make_integration_facet(slave_facets_.type[e], slave_facets_.facets[e], mesh.nodes, dim_,
+                                                    as.dimension == Dimension::axisymmetric, as.thickness));
+  }
+  std::string name() const override { return "segment_to_segment"; }
+
+  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+    facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
+  }
+
+  void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
+    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], false, nodes);
+  }
+
+  void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
+    out = open_constraints(slave_);
+    const Index ne = slave_facets_.size();
+    std::vector<std::vector<IntegrationResult>> results(ne);
+    std::vector<std::vector<Index>> facet(ne);
+#pragma omp parallel for schedule(dynamic, 8)
+    for (Index e = 0; e < ne; ++e) {
+      if (candidates_[e].empty()) continue;
+      IntegrationResult r;
+      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r);
+      if (r.points == 0) continue;
+      facet[e].push_back(r.first_facet);
+      results[e].push_back(std::move(r));
+    }
+    gather(slave_facets_, index_, results, facet, out);
+    for (Constraint& c : out) {
+      if (c.kind == ConstraintKind::none) continue;
+      if (!(c.weight > 0)) {
+        Constraint open;
+        open.slave = c.slave;
+        open.weight = c.weight;
+        c = std::move(open);
+        continue;
+      }
+      c.gap /= c.weight;
+      c.grad /= c.weight;
+      c.hess /= c.weight;
+      // The slave's averaged normal, turned to point from the master to the slave; its
+      // variation is not built (frictionless only, where enforcement does not read it).
+      c.normal = -slave_facets_.node_normal(c.slave, x, dim_);
+      c.normal_jacobian.setZero(dim_, c.grad.size());
+    }
+  }
+
+ private:
+  MasterSurface slave_facets_;
+  std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
+  std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may meet
+  std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
 };
 
 // A rigid analytic obstacle, displaced by its own dim unknowns: no search, no master nodes.
@@ -367,6 +471,7 @@ std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
   if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);
+  if (s.discretization == "segment_to_segment") return std::make_unique<SegmentToSegment>(s, mesh, slave, as);
   throw Error("contact '" + s.name + "': unknown discretization '" + s.discretization + "'");
 }
 

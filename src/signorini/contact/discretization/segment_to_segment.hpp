@@ -1,0 +1,54 @@
+// Segment-to-segment contact by integration points (2D and 3D, every facet type): the Gauss
+// points of each slave facet are projected onto the master surface (the closest-point
+// projection of node-to-segment, contact/geometry/facet_projection), and their gaps are
+// gathered into one weighted gap per slave node with the dual shape functions of the facet
+// (Wohlmuth 2000), built on the modified basis of Popp, Wohlmuth, Gee & Wall (2012) for tri6
+// and quad8 so that every node's weight is positive:
+//   g~_j = sum_e sum_q Phi_j(xi_q) g(x_s(xi_q)) w_q J0_q,   w_j = sum_e int_e N~_j dA0,
+// with the integration weights and the dual coefficients in the reference configuration
+// (the mortar integrals evaluated at the integration points, "element-based integration" in
+// Popp's terms, instead of on segments). The constraint is g~_j / w_j, so enforcement's force
+// p w_j grad(g~_j / w_j) = p grad g~_j is the virtual work of the nodal pressure p_j
+// interpolated with the dual basis. Its variations are the gap's at each point (exact, from
+// gap_variations) carried to the slave facet's nodes by x_s = sum_i N_i(xi_q) x_i.
+#pragma once
+#include <vector>
+
+#include "signorini/contact/surface.hpp"
+#include "signorini/core/types.hpp"
+
+namespace signorini {
+
+// Per slave facet, once (reference configuration).
+struct IntegrationFacet {
+  ElementType type = ElementType::line2;
+  std::vector<Index> nodes;
+  std::vector<VecX> N;      // per point: the facet's shape functions (geometry)
+  std::vector<VecX> phi;    // per point: the dual shape functions
+  std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)
+  VecX area;                // per node: int N~_j dA0 (positive)
+};
+
+// The modified basis N~ = N with, for tri6 and quad8, N~_corner = N_corner + (1/5) (the two
+// mid-side functions next to it) and N~_mid = (3/5) N_mid (Popp et al. 2012, alpha = 1/5): a
+// partition of unity with positive integrals. Other types: N~ = N.
+void modified_shape_functions(ElementType type, const VecX& N, VecX& Nt);
+
+IntegrationFacet make_integration_facet(ElementType type, const std::vector<Index>& nodes,
+                                        const std::vector<Vec3>& X, int dim, bool axisymmetric, Real thickness);
+
+// The weighted gaps of the facet's nodes at positions x against the master facets
+// `candidates`: `nodes` the facet's nodes then the master nodes met; per facet node its gap
+// share, gradient and Hessian over `nodes`; `first_facet` a master facet met (-1: none).
+struct IntegrationResult {
+  std::vector<Index> nodes;
+  std::vector<Real> gap;
+  std::vector<VecX> grad;
+  std::vector<MatX> hess;
+  Index first_facet = -1;
+  int points = 0;  // integration points that found the master
+};
+void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
+                            const std::vector<Vec3>& x, int dim, IntegrationResult& out);
+
+}  // namespace signorini
