@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "signorini/core/error.hpp"
+#include "signorini/fem/coloring.hpp"
 #include "signorini/fem/shape.hpp"
 
 namespace signorini {
@@ -208,8 +209,16 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
   const int hs = material_->history_size();
   if (hs && (!history || history->per_point() != hs))
     throw Error("body " + name_ + ": its material has history variables and needs their storage");
+  const int ndpn = dofs.dofs_per_node();
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
     const ElementBlock& b = blocks_[bi];
+    const int npe = b.nodes_per_element();
+    // Cells that share a node's DOFs (a slot) never run at the same time (fem/coloring.hpp).
+    const Coloring coloring = color_items(b.size(), dofs.num_dofs() / std::max(ndpn, 1), [&](Index e, std::vector<Index>& s) {
+      const Index* c = b.element(e);
+      for (int a = 0; a < npe; ++a) s.push_back(dofs.has_dofs(c[a]) ? dofs.dof(c[a], 0) / ndpn : -1);
+    });
+    Index failed = -1;  // the first failing cell in cell order, whatever the threads
     std::string failure;
 #pragma omp parallel
     {
@@ -217,20 +226,24 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
       VecX ue, fe;
       MatX ke;
       std::vector<Index> edofs;
+      for (int color = 0; color < coloring.colors(); ++color) {
 #pragma omp for schedule(static)
-      for (Index e = 0; e < b.size(); ++e) {
-        try {
-          gather(b, e, X, u, dofs, Xe, ue, edofs);
-          element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? history->trial(bi, e) : nullptr, fe,
-                  matrix ? &ke : nullptr);
-          for (size_t k = 0; k < edofs.size(); ++k) {
-#pragma omp atomic
-            fint(edofs[k]) += fe(k);
+        for (Index k = coloring.begin(color); k < coloring.end(color); ++k) {
+          const Index e = coloring.items[k];
+          try {
+            gather(b, e, X, u, dofs, Xe, ue, edofs);
+            element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? history->trial(bi, e) : nullptr, fe,
+                    matrix ? &ke : nullptr);
+            for (size_t i = 0; i < edofs.size(); ++i)
+              if (edofs[i] >= 0) fint(edofs[i]) += fe(i);
+            if (matrix) matrix->add(edofs.data(), static_cast<int>(edofs.size()), ke);
+          } catch (const std::exception& ex) {
+#pragma omp critical(signorini_body_failure)
+            if (failed < 0 || e < failed) {
+              failed = e;
+              failure = std::string(ex.what()) + " (element " + std::to_string(b.ids[e]) + ")";
+            }
           }
-          if (matrix) matrix->add(edofs.data(), static_cast<int>(edofs.size()), ke);
-        } catch (const std::exception& ex) {
-#pragma omp critical
-          if (failure.empty()) failure = std::string(ex.what()) + " (element " + std::to_string(b.ids[e]) + ")";
         }
       }
     }

@@ -1,6 +1,6 @@
 // The global tangent matrix and residual behind a small interface, so element and contact
 // code never see the storage (a PETSc backend can implement the same interface later).
-// The sparse pattern is built once from the cells; assembly is thread safe.
+// The sparse pattern is built once from the cells; concurrent assembly of disjoint entries.
 #pragma once
 #include <Eigen/SparseCore>
 #include <atomic>
@@ -17,7 +17,8 @@ class GlobalMatrix {
  public:
   virtual ~GlobalMatrix() = default;
   // Adds the dense block `k` (n x n) at rows and columns `dofs` (entries < 0 are skipped).
-  // Called concurrently from the assembly threads: implementations must be thread safe.
+  // Called concurrently from the assembly threads, which never write the same entry at the
+  // same time (they colour their cells and constraints, fem/coloring.hpp): no locking needed.
   virtual void add(const Index* dofs, int n, const MatX& k) = 0;
 };
 

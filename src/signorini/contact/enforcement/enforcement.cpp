@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "signorini/core/error.hpp"
+#include "signorini/fem/coloring.hpp"
 
 namespace signorini {
 
@@ -14,6 +15,19 @@ void constraint_dofs(const Constraint& c, const DofMap& dofs, int dim, std::vect
   for (Index n : c.nodes)
     for (int d = 0; d < dim; ++d) out.push_back(dofs.dof(n, d));
   out.insert(out.end(), c.extra_dofs.begin(), c.extra_dofs.end());
+}
+
+// Constraints that share a node's DOFs (or an obstacle's unknowns) get different colours, so
+// the assembly adds into each entry in one fixed order (fem/coloring.hpp). A constraint's own
+// multiplier rows are its alone. Slots: DOF / dofs per node over every unknown.
+Coloring color_constraints(const EnforcementInput& in, Index total_unknowns) {
+  const ConstraintSet& cs = *in.constraints;
+  const int dim = in.dim;
+  return color_items(static_cast<Index>(cs.size()), total_unknowns / dim + 1, [&](Index j, std::vector<Index>& s) {
+    if (cs[j].kind == ConstraintKind::none) return;
+    constraint_dofs(cs[j], *in.dofs, dim, s);
+    for (Index& d : s) d = d < 0 ? -1 : d / dim;
+  });
 }
 
 // Tangential directions in which the free DOFs (nearly) cannot slip, e.g. a slave node on a
@@ -55,12 +69,13 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
   return Q;
 }
 
+// r(dofs[k]) += scale v(k) for the entries of v (dofs may go on with multiplier rows that v
+// does not cover). No atomics: the callers' colouring keeps concurrent constraints on
+// disjoint rows.
 void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real scale) {
-  for (size_t k = 0; k < dofs.size(); ++k)
-    if (dofs[k] >= 0) {
-#pragma omp atomic
-      r(dofs[k]) += scale * v(k);
-    }
+  if (static_cast<size_t>(v.size()) > dofs.size()) throw Error("contact assembly: a vector longer than its DOFs");
+  for (Index k = 0; k < v.size(); ++k)
+    if (dofs[k] >= 0) r(dofs[k]) += scale * v(k);
 }
 
 // Derivative of a trial traction P(n) v, v = v0 + c_T d (v0 fixed), over the constraint's
@@ -88,31 +103,35 @@ class Penalty : public Enforcement {
     out.traction.assign(n, Vec3::Zero());
     out.slip.assign(n, 0);
     out.cone_excess.assign(n, 0.0);
+    const Coloring coloring = color_constraints(in, residual.size());
 #pragma omp parallel
     {
       std::vector<Index> dofs;
       MatX k;
+      for (int color = 0; color < coloring.colors(); ++color) {
 #pragma omp for schedule(dynamic, 32)
-      for (Index j = 0; j < n; ++j) {
-        const Constraint& c = cs[j];
-        // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
-        // can then start from touching. Augmented Lagrangian: the shift lambda-bar.
-        if (c.kind == ConstraintKind::none) continue;
-        const NodeRecord& node = (*in.nodes)[j];
-        const Real eps = node.stiffness;
-        const Real shift = node.shift;
-        if (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0)) continue;
-        const Real p = shift - eps * c.gap;
-        out.pressure[j] = p;
-        out.active[j] = 1;
-        constraint_dofs(c, *in.dofs, in.dim, dofs);
-        add_vector(residual, dofs, c.grad, p * c.weight);
-        if (K) {
-          // -d(p w grad g)/du = eps w grad g grad g^T - p w hess g
-          k = eps * c.weight * c.grad * c.grad.transpose() - p * c.weight * c.hess;
+        for (Index item = coloring.begin(color); item < coloring.end(color); ++item) {
+          const Index j = coloring.items[item];
+          const Constraint& c = cs[j];
+          // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
+          // can then start from touching. Augmented Lagrangian: the shift lambda-bar.
+          if (c.kind == ConstraintKind::none) continue;
+          const NodeRecord& node = (*in.nodes)[j];
+          const Real eps = node.stiffness;
+          const Real shift = node.shift;
+          if (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0)) continue;
+          const Real p = shift - eps * c.gap;
+          out.pressure[j] = p;
+          out.active[j] = 1;
+          constraint_dofs(c, *in.dofs, in.dim, dofs);
+          add_vector(residual, dofs, c.grad, p * c.weight);
+          if (K) {
+            // -d(p w grad g)/du = eps w grad g grad g^T - p w hess g
+            k = eps * c.weight * c.grad * c.grad.transpose() - p * c.weight * c.hess;
+          }
+          if (in.friction && c.has_slip) add_friction(in, j, c, eps, p, dofs, residual, K ? &k : nullptr, out);
+          if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
         }
-        if (in.friction && c.has_slip) add_friction(in, j, c, eps, p, dofs, residual, K ? &k : nullptr, out);
-        if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
       }
     }
   }
@@ -201,82 +220,84 @@ class LagrangeMultipliers final : public Enforcement {
     for (auto& c : cs) mean_w += c.weight;
     mean_w = n ? mean_w / n : 1.0;
     if (!(mean_w > 0)) mean_w = 1.0;
+    const Coloring coloring = color_constraints(in, residual.size());
 #pragma omp parallel
     {
       std::vector<Index> dofs;
       MatX k;
+      for (int color = 0; color < coloring.colors(); ++color) {
 #pragma omp for schedule(dynamic, 32)
-      for (Index j = 0; j < n; ++j) {
-        const Constraint& c = cs[j];
-        const Index ldof = in.multiplier_offset + j;
-        const Real lambda = z(ldof);
-        out.pressure[j] = lambda;
-        // Friction: the tangential traction's multipliers, dim per constraint after the
-        // normal ones (a vector in space; its normal component is driven to zero).
-        Index tdof[3] = {-1, -1, -1};
-        VecX lt = VecX::Zero(dim);
-        if (friction)
-          for (int d = 0; d < dim; ++d) {
-            tdof[d] = in.multiplier_offset + n + j * dim + d;
-            lt(d) = z(tdof[d]);
-          }
-        // Rows s lambda = 0 (no contact force).
-        auto release = [&](Index row, Real value, Real s) {
-#pragma omp atomic
-          residual(row) -= s * value;
-          if (K) {
-            MatX one = MatX::Constant(1, 1, s);
-            K->add(&row, 1, one);
-          }
-        };
-        auto release_tangential = [&](Real s) {
+        for (Index item = coloring.begin(color); item < coloring.end(color); ++item) {
+          const Index j = coloring.items[item];
+          const Constraint& c = cs[j];
+          const Index ldof = in.multiplier_offset + j;
+          const Real lambda = z(ldof);
+          out.pressure[j] = lambda;
+          // Friction: the tangential traction's multipliers, dim per constraint after the
+          // normal ones (a vector in space; its normal component is driven to zero).
+          Index tdof[3] = {-1, -1, -1};
+          VecX lt = VecX::Zero(dim);
           if (friction)
-            for (int d = 0; d < dim; ++d) release(tdof[d], lt(d), s);
-        };
-        if (c.kind == ConstraintKind::none || !(c.weight > 0)) {
-          // No master within reach: lambda = 0.
-          const Real s = c.weight > 0 ? c.weight : mean_w;
-          release(ldof, lambda, s);
-          release_tangential(s);
-          continue;
+            for (int d = 0; d < dim; ++d) {
+              tdof[d] = in.multiplier_offset + n + j * dim + d;
+              lt(d) = z(tdof[d]);
+            }
+          // Rows s lambda = 0 (no contact force).
+          auto release = [&](Index row, Real value, Real s) {
+            residual(row) -= s * value;
+            if (K) {
+              MatX one = MatX::Constant(1, 1, s);
+              K->add(&row, 1, one);
+            }
+          };
+          auto release_tangential = [&](Real s) {
+            if (friction)
+              for (int d = 0; d < dim; ++d) release(tdof[d], lt(d), s);
+          };
+          if (c.kind == ConstraintKind::none || !(c.weight > 0)) {
+            // No master within reach: lambda = 0.
+            const Real s = c.weight > 0 ? c.weight : mean_w;
+            release(ldof, lambda, s);
+            release_tangential(s);
+            continue;
+          }
+          const Real c0 = (*in.nodes)[j].stiffness;
+          const Hold hold = (*in.nodes)[j].hold;
+          // At the kink (lambda = 0, g = 0: a node that just touches) either branch is a valid
+          // Newton derivative; closed lets a body held only by contact start from touching.
+          const bool active = held_closed(hold) || (hold == Hold::none && lambda - c0 * c.gap >= 0);
+          out.active[j] = active;
+          // Open: the multiplier row F = w lambda drives lambda to 0, and the node puts no force
+          // on the bodies (the force is lambda on the active set only, as in the primal-dual
+          // active set method, Hueber & Wohlmuth 2005): a node released in tension then adds
+          // neither its force nor its -lambda w hess g to the tangent, which would make the
+          // bodies' block indefinite.
+          if (!active) {
+            release(ldof, lambda, c.weight);
+            release_tangential(c.weight);
+            continue;
+          }
+          constraint_dofs(c, *in.dofs, dim, dofs);
+          const int m = static_cast<int>(dofs.size());
+          // Friction, unless every tangential direction of the node is prescribed (then as frictionless).
+          MatX Q;
+          if (friction && c.has_slip) Q = prescribed_slip_directions(in, c, dofs, m);
+          const bool slips = friction && c.has_slip && Q.trace() < dim - 1.5;
+          // Displacement rows: f_c = lambda w grad g.
+          add_vector(residual, dofs, c.grad, lambda * c.weight);
+          // Multiplier row: F = c w g; R = -F.
+          residual(ldof) -= c0 * c.weight * c.gap;
+          if (K) {
+            k.setZero(m + 1 + (slips ? dim : 0), m + 1 + (slips ? dim : 0));
+            k.topLeftCorner(m, m) = -lambda * c.weight * c.hess;
+            k.block(0, m, m, 1) = -c.weight * c.grad;
+            k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
+            dofs.push_back(ldof);
+          }
+          if (slips) add_friction(in, j, c, lambda, lt, Q, tdof, dofs, m, residual, K ? &k : nullptr, out);
+          else release_tangential(c.weight);  // frictionless, no slip origin yet, or no free slip: no tangential traction
+          if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
         }
-        const Real c0 = (*in.nodes)[j].stiffness;
-        const Hold hold = (*in.nodes)[j].hold;
-        // At the kink (lambda = 0, g = 0: a node that just touches) either branch is a valid
-        // Newton derivative; closed lets a body held only by contact start from touching.
-        const bool active = held_closed(hold) || (hold == Hold::none && lambda - c0 * c.gap >= 0);
-        out.active[j] = active;
-        // Open: the multiplier row F = w lambda drives lambda to 0, and the node puts no force
-        // on the bodies (the force is lambda on the active set only, as in the primal-dual
-        // active set method, Hueber & Wohlmuth 2005): a node released in tension then adds
-        // neither its force nor its -lambda w hess g to the tangent, which would make the
-        // bodies' block indefinite.
-        if (!active) {
-          release(ldof, lambda, c.weight);
-          release_tangential(c.weight);
-          continue;
-        }
-        constraint_dofs(c, *in.dofs, dim, dofs);
-        const int m = static_cast<int>(dofs.size());
-        // Friction, unless every tangential direction of the node is prescribed (then as frictionless).
-        MatX Q;
-        if (friction && c.has_slip) Q = prescribed_slip_directions(in, c, dofs, m);
-        const bool slips = friction && c.has_slip && Q.trace() < dim - 1.5;
-        // Displacement rows: f_c = lambda w grad g.
-        add_vector(residual, dofs, c.grad, lambda * c.weight);
-        // Multiplier row: F = c w g; R = -F.
-#pragma omp atomic
-        residual(ldof) -= c0 * c.weight * c.gap;
-        if (K) {
-          k.setZero(m + 1 + (slips ? dim : 0), m + 1 + (slips ? dim : 0));
-          k.topLeftCorner(m, m) = -lambda * c.weight * c.hess;
-          k.block(0, m, m, 1) = -c.weight * c.grad;
-          k.block(m, 0, 1, m) = c0 * c.weight * c.grad.transpose();
-          dofs.push_back(ldof);
-        }
-        if (slips) add_friction(in, j, c, lambda, lt, Q, tdof, dofs, m, residual, K ? &k : nullptr, out);
-        else release_tangential(c.weight);  // frictionless, no slip origin yet, or no free slip: no tangential traction
-        if (K) K->add(dofs.data(), static_cast<int>(dofs.size()), k);
       }
     }
   }
@@ -315,10 +336,7 @@ class LagrangeMultipliers final : public Enforcement {
     add_vector(residual, dofs, D.transpose() * lt, -w);
     const MatX keep = MatX::Identity(dim, dim) - Q;
     const VecX e = keep * (w * (lt - rm.traction.head(dim))) + Q * (w * lt);
-    for (int d = 0; d < dim; ++d) {
-#pragma omp atomic
-      residual(tdof[d]) -= e(d);
-    }
+    for (int d = 0; d < dim; ++d) residual(tdof[d]) -= e(d);
     if (!k) return;
     const MatX A = rm.d_trial.topLeftCorner(dim, dim);
     const VecX b = rm.d_bound.head(dim);

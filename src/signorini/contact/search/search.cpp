@@ -104,31 +104,31 @@ class BucketGrid final : public ContactSearch {
     Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
     Real rmax = 0, edge_sum = 0;
     const int edges = f.corners == 2 ? 1 : f.corners;
-#pragma omp parallel
-    {
-      Vec3 tlo = Vec3::Constant(kInf), thi = Vec3::Constant(-kInf);
-      Real tr = 0, te = 0;
-#pragma omp for schedule(static) nowait
-      for (Index i = 0; i < n; ++i) {
+    // Bounds, largest radius and edge sum by fixed blocks, combined in block order: the same
+    // sum (so the same cells, and the same answers at ties) whatever the number of threads.
+    const Index block = 4096, nb = (n + block - 1) / block;
+    std::vector<Vec3> blo(nb, Vec3::Constant(kInf)), bhi(nb, Vec3::Constant(-kInf));
+    std::vector<Real> br(nb, 0), be(nb, 0);
+#pragma omp parallel for schedule(static)
+    for (Index k = 0; k < nb; ++k)
+      for (Index i = k * block; i < std::min(n, (k + 1) * block); ++i) {
         const Vec3* c = f.facet(i);
         Vec3 m = Vec3::Zero();
-        for (int k = 0; k < f.corners; ++k) m += c[k];
+        for (int q = 0; q < f.corners; ++q) m += c[q];
         m /= f.corners;
         Real r2 = 0;
-        for (int k = 0; k < f.corners; ++k) r2 = std::max(r2, (c[k] - m).squaredNorm());
-        for (int k = 0; k < edges; ++k) te += (c[(k + 1) % f.corners] - c[k]).norm();
+        for (int q = 0; q < f.corners; ++q) r2 = std::max(r2, (c[q] - m).squaredNorm());
+        for (int q = 0; q < edges; ++q) be[k] += (c[(q + 1) % f.corners] - c[q]).norm();
         centroid_[i] = m;
-        tlo = tlo.cwiseMin(m);
-        thi = thi.cwiseMax(m);
-        tr = std::max(tr, r2);
+        blo[k] = blo[k].cwiseMin(m);
+        bhi[k] = bhi[k].cwiseMax(m);
+        br[k] = std::max(br[k], r2);
       }
-#pragma omp critical(signorini_grid_bounds)
-      {
-        lo = lo.cwiseMin(tlo);
-        hi = hi.cwiseMax(thi);
-        rmax = std::max(rmax, tr);
-        edge_sum += te;
-      }
+    for (Index k = 0; k < nb; ++k) {
+      lo = lo.cwiseMin(blo[k]);
+      hi = hi.cwiseMax(bhi[k]);
+      rmax = std::max(rmax, br[k]);
+      edge_sum += be[k];
     }
     lo_ = lo;
     rmax_ = std::sqrt(rmax);
@@ -216,9 +216,10 @@ class BucketGrid final : public ContactSearch {
             const Sphere& sp = spheres_[r];
             const Real reach_r = bound + sp.r;
             const Real dx = p(0) - sp.c[0], dy = p(1) - sp.c[1], dz = p(2) - sp.c[2];
-            if (dx * dx + dy * dy + dz * dz >= reach_r * reach_r) continue;
+            if (dx * dx + dy * dy + dz * dz > reach_r * reach_r) continue;
             const Real d = point_facet_distance(corner_data_.data() + r * corners_, corners_, p);
-            if (d < bound || (d == bound && d < best.distance)) {
+            // At a tie the lower facet id: the answer does not depend on the visiting order.
+            if (d < bound || (d == bound && (d < best.distance || ids_[r] < best.facet))) {
               bound = d;
               best = {ids_[r], d};
             }
@@ -300,12 +301,12 @@ class AabbTree final : public ContactSearch {
         while (!stack.empty()) {
           const Node& nd = nodes_[stack.back()];
           stack.pop_back();
-          if (box_distance(nd, p) >= bound) continue;
+          if (box_distance(nd, p) > bound) continue;
           if (nd.left < 0) {
             for (Index r = nd.begin; r < nd.end; ++r) {
               const Record& rec = records_[r];
               const Real d = record_distance(rec, corners_, p);
-              if (d < bound || (d == bound && d < best.distance)) {
+              if (d < bound || (d == bound && (d < best.distance || rec.id < best.facet))) {
                 bound = d;
                 best = {rec.id, d};
               }
