@@ -329,3 +329,24 @@ TEST(Deck, RigidBodyErrors) {
                                  "{name: plate, region: Square, rigid: maybe}"));
   EXPECT_MESSAGE(m, "r_bool.yaml:7", "bodies[0].rigid");
 }
+
+TEST(Deck, J2PlasticityHardeningErrors) {
+  const std::string j2 = "{model: j2_plasticity, E: 210e9, nu: 0.3, yield_stress: 240e6";
+  const std::string good = replace(kGood, "{model: linear_elastic, E: 210e9, nu: 0.3}",
+                                   j2 + ", hardening: {isotropic: {type: voce, saturation: 400e6, rate: 50}, kinematic: {H: 1e9}}}");
+  ASSERT_NE(good, kGood);
+  Registry r = default_registry();
+  EXPECT_NO_THROW(read_deck(write_deck("j2_good", good), r));
+  auto m = error_of("j2_rate", replace(good, ", rate: 50", ""));
+  EXPECT_MESSAGE(m, "j2_rate.yaml:5", "materials.steel.hardening.isotropic", "needs 'rate'");
+  m = error_of("j2_key", replace(good, "kinematic: {H: 1e9}", "kinematik: {H: 1e9}"));
+  EXPECT_MESSAGE(m, "j2_key.yaml:5", "kinematik", "allowed: isotropic, kinematic");
+  m = error_of("j2_saturation", replace(good, "saturation: 400e6", "saturation: 100e6"));
+  EXPECT_MESSAGE(m, "j2_saturation.yaml:5", "hardening.isotropic.saturation", "below the yield stress");
+  m = error_of("j2_linear_rate", replace(good, "type: voce", "type: linear"));
+  EXPECT_MESSAGE(m, "j2_linear_rate.yaml:5", "hardening.isotropic.saturation", "for type: voce");
+  m = error_of("j2_finite", replace(good, "plane_strain", "plane_strain, kinematics: finite_strain"));
+  EXPECT_MESSAGE(m, "j2_finite.yaml:5", "materials.steel.model", "small-strain model");
+  m = error_of("j2_negative_H", replace(good, "H: 1e9", "H: -1e9"));
+  EXPECT_MESSAGE(m, "j2_negative_H.yaml:5", "hardening.kinematic.H", ">= 0");
+}

@@ -166,6 +166,32 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
   m.mesh.complete_node_sets();
 }
 
+// j2_plasticity's 'hardening' map into the factory's values ("hardening.isotropic.H", ...).
+void read_hardening(const Node& h, const Registry& r, ParamValues& pv) {
+  h.check_keys(deck_spec(r, "hardening"));
+  if (h.has("isotropic")) {
+    const Node iso = h.child("isotropic");
+    const TypeSpec& spec = deck_spec(r, "isotropic_hardening");
+    iso.check_keys(spec);
+    const bool voce = iso.text(spec, "type") == "voce";
+    pv["hardening.isotropic.H"] = iso.number(spec, "H");
+    pv["hardening.isotropic.voce"] = voce;
+    for (const char* k : {"saturation", "rate"}) {
+      if (voce && !iso.has(k)) iso.fail(std::string("voce hardening needs '") + k + "'");
+      if (!voce && iso.has(k)) iso.child(k).fail(std::string("'") + k + "' is for type: voce");
+      if (voce) pv[std::string("hardening.isotropic.") + k] = iso.number(spec, k);
+    }
+    if (voce && pv.count("yield_stress") && pv["hardening.isotropic.saturation"] < pv["yield_stress"])
+      iso.child("saturation").fail("the saturation stress is below the yield stress (softening is not supported)");
+  }
+  if (h.has("kinematic")) {
+    const Node kin = h.child("kinematic");
+    const TypeSpec& spec = deck_spec(r, "kinematic_hardening");
+    kin.check_keys(spec);
+    pv["hardening.kinematic.H"] = kin.number(spec, "H");
+  }
+}
+
 void read_materials_and_bodies(const Node& mats, const Node& bodies, const Registry& r, Model& m) {
   mats.expect_map();
   std::map<std::string, std::shared_ptr<Material>> materials;
@@ -182,7 +208,14 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
     mn.check_keys(*spec);
     ParamValues pv;
     for (auto& p : spec->params)
-      if (p.kind == ParamKind::number || p.kind == ParamKind::integer) pv[p.name] = mn.number(*spec, p.name);
+      if ((p.kind == ParamKind::number || p.kind == ParamKind::integer) && (!p.optional || mn.has(p.name)))
+        pv[p.name] = mn.number(*spec, p.name);
+    if (model == "j2_plasticity") {
+      if (m.settings.finite_strain)
+        mn.child("model").fail("j2_plasticity is a small-strain model for now (the multiplicative finite-strain "
+                               "J2 is not built yet): use analysis.kinematics: small_strain");
+      if (mn.has("hardening")) read_hardening(mn.child("hardening"), r, pv);
+    }
     materials[name] = r.make_material(model, pv);
   }
   bodies.expect_list();

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "signorini/core/error.hpp"
+#include "signorini/material/j2_plasticity.hpp"
 #include "signorini/solver/linear_solver.hpp"
 
 namespace signorini {
@@ -143,6 +144,27 @@ void register_materials(Registry& r) {
                    number("E", "Young's modulus (small-strain limit)", std::nullopt, 0, INFINITY, true),
                    number("nu", "Poisson's ratio (small-strain limit)", std::nullopt, -1, 0.5, true, true)}},
                  [](const ParamValues& p) { return std::make_shared<NeoHookean>(p.at("E"), p.at("nu")); });
+  r.add_material({"material", "j2_plasticity",
+                  "Von Mises (J2) plasticity at small strain, radial return with the consistent tangent (Simo & "
+                  "Hughes 1998, Box 3.2); isotropic hardening linear or Voce, linear kinematic hardening; perfectly "
+                  "plastic without 'hardening'. History output: plastic strain, equivalent plastic strain, back "
+                  "stress, plastic work, plastic dissipation, yielding (1 where the last increment yielded).",
+                  {choice("model", model_doc, {"j2_plasticity"}, std::nullopt),
+                   number("E", "Young's modulus", std::nullopt, 0, INFINITY, true),
+                   number("nu", "Poisson's ratio", std::nullopt, -1, 0.5, true, true),
+                   number("yield_stress", "initial yield stress sigma_y0 (uniaxial)", std::nullopt, 0, INFINITY, true),
+                   opt(text("hardening", "{isotropic: {...}, kinematic: {...}} (see 'describe hardening'); absent: "
+                                         "perfectly plastic", std::nullopt, ParamKind::any))}},
+                 [](const ParamValues& p) {
+                   J2Hardening h;
+                   auto get = [&](const char* k) { return p.count(k) ? p.at(k) : 0.0; };
+                   h.H = get("hardening.isotropic.H");
+                   h.voce = get("hardening.isotropic.voce") != 0;
+                   h.saturation = get("hardening.isotropic.saturation");
+                   h.rate = get("hardening.isotropic.rate");
+                   h.kinematic = get("hardening.kinematic.H");
+                   return std::make_shared<J2Plasticity>(p.at("E"), p.at("nu"), p.at("yield_stress"), h);
+                 });
 }
 
 void register_linear_solvers(Registry& r) {
@@ -275,6 +297,21 @@ void register_deck_sections(Registry& r) {
           text("gap_tolerance", "augmented_lagrangian: largest penetration accepted, or auto = 1e-3 x mean slave "
                                 "facet size", "auto", ParamKind::any),
           number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000)}});
+  r.add({"deck", "hardening", "Hardening of j2_plasticity (material key 'hardening').",
+         {opt(text("isotropic", "{type: linear, H: ...} or {type: voce, saturation: ..., rate: ..., H: ...} (see "
+                                "'describe isotropic_hardening')", std::nullopt, ParamKind::any)),
+          opt(text("kinematic", "{H: ...}: linear kinematic hardening (Prager), back stress rate 2/3 H plastic "
+                                "strain rate (see 'describe kinematic_hardening')", std::nullopt, ParamKind::any))}});
+  r.add({"deck", "isotropic_hardening",
+         "Isotropic hardening of j2_plasticity: sigma_y(alpha) = yield_stress + H alpha (linear), plus "
+         "(saturation - yield_stress)(1 - exp(-rate alpha)) for voce; alpha the equivalent plastic strain.",
+         {choice("type", "linear or voce", {"linear", "voce"}, std::nullopt),
+          number("H", "linear hardening modulus (stress units)", "0", 0),
+          opt(number("saturation", "voce: the yield stress approached at large alpha (without H); at least "
+                                   "yield_stress", std::nullopt, 0, INFINITY, true)),
+          opt(number("rate", "voce: saturation rate (1 / equivalent plastic strain)", std::nullopt, 0, INFINITY, true))}});
+  r.add({"deck", "kinematic_hardening", "Linear kinematic hardening of j2_plasticity (Prager).",
+         {number("H", "kinematic hardening modulus H_k (stress units)", std::nullopt, 0)}});
   r.add({"deck", "search", "Contact detection.",
          {choice("method", "global search: bucket_grid, bvh (AABB tree) or all_to_all (reference, slow)",
                  {"bucket_grid", "bvh", "all_to_all"}, "bucket_grid"),

@@ -1,0 +1,177 @@
+// J2 plasticity verified on the thick-walled cylinder under internal pressure (VALIDATION.md
+// sec. 8; Hill 1950, ch. V; de Souza Neto, Peric & Owen 2008, sec. 7.5.1): plane strain,
+// a = 100 mm, b = 200 mm, E = 210 GPa, nu = 0.3, perfectly plastic sigma_y = 240 MPa, the
+// quarter model of examples/lame_cylinder (quad9). References:
+//  - elastic (Lame, plane strain): u(b) = 2 p a^2 b (1 - nu^2) / (E (b^2 - a^2));
+//  - elastic-plastic, plastic zone a <= r <= c (Hill, with k = sigma_y / sqrt(3), the plane-strain
+//    von Mises shear yield stress): p = k [1 - c^2/b^2 + 2 ln(c/a)], and the elastic outer zone
+//    gives u(b) = 2 (1 - nu^2) k c^2 / (E b);
+//  - limit pressure (c = b): p_lim = (2 / sqrt 3) sigma_y ln(b/a) = 192.09 MPa.
+// Hill's relation is exact for Tresca and for an incompressible von Mises solid; with nu = 0.3
+// the axial stress differs a little from the mean of the in-plane ones. Measured (h = 5 mm,
+// quad9): u(b) within 0.5 % of Hill's up to 0.94 p_lim and 2.6 % at 0.99 p_lim, where the curve
+// is nearly flat (Hill's pressure for that displacement is 0.27 % higher); the plastic front 2-3 mm
+// beyond Hill's (the measure is the outermost yielded cell's centroid); the last converged
+// pressure on the way to 1.03 p_lim 0.9999 p_lim.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "signorini/core/log.hpp"
+#include "signorini/io/deck.hpp"
+#include "signorini/material/j2_plasticity.hpp"
+#include "signorini/solver/analysis.hpp"
+
+using namespace signorini;
+
+namespace {
+
+const Real kA = 0.1, kB = 0.2, kE = 210e9, kNu = 0.3, kSy = 240e6;
+const Real kK = kSy / std::sqrt(3.0);
+const Real kPlim = 2 / std::sqrt(3.0) * kSy * std::log(kB / kA);
+
+Real hill_pressure(Real c) { return kK * (1 - c * c / (kB * kB) + 2 * std::log(c / kA)); }
+// The plastic front for a pressure between first yield and the limit (bisection on Hill's relation).
+Real hill_front(Real p) {
+  Real lo = kA, hi = kB;
+  for (int i = 0; i < 100; ++i) {
+    const Real mid = 0.5 * (lo + hi);
+    (hill_pressure(mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+Real outer_displacement(Real p) {
+  if (p <= hill_pressure(kA)) return 2 * p * kA * kA * kB * (1 - kNu * kNu) / (kE * (kB * kB - kA * kA));
+  const Real c = hill_front(p);
+  return 2 * (1 - kNu * kNu) * kK * c * c / (kE * kB);
+}
+
+// The pressure at which Hill's curve reaches the outer displacement u (bisection; u below its
+// value at p_lim).
+Real hill_pressure_for(Real u) {
+  Real lo = 0, hi = kPlim;
+  for (int i = 0; i < 100; ++i) {
+    const Real mid = 0.5 * (lo + hi);
+    (outer_displacement(mid) < u ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+std::string deck(Real p, Real h, const std::string& increments) {
+  const std::string geo =
+      (std::filesystem::path(SIGNORINI_SOURCE_DIR) / "examples" / "lame_cylinder" / "lame_cylinder.geo").string();
+  return "title: thick cylinder, J2 perfectly plastic\n"
+         "analysis: {dimension: plane_strain, kinematics: small_strain}\n"
+         "mesh: {file: " + geo + ", parameters: {h: " + std::to_string(h) + "}}\n"
+         "materials:\n  steel: {model: j2_plasticity, E: 210e9, nu: 0.3, yield_stress: 240e6}\n"
+         "bodies:\n  - {name: cylinder, region: Cylinder, material: steel}\n"
+         "steps:\n  - name: pressurize\n    increments: " + increments + "\n"
+         "    boundary:\n      - {set: SymX, uy: 0}\n      - {set: SymY, ux: 0}\n"
+         "    loads:\n      - {set: Inner, pressure: " + fmt::format("{:.17g}", p) + "}\n"
+         "output: {vtu: none}\n";
+}
+
+struct Point {
+  Real p, ub, front;
+};
+
+struct CylinderRun {
+  AnalysisSummary summary;
+  std::vector<Point> curve;
+};
+
+CylinderRun run_cylinder(Real p, Real h, const std::string& increments) {
+  namespace fs = std::filesystem;
+  log::set_level(log::Level::warning);
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_plastic_cylinder_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(tmp) << deck(p, h, increments);
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  fs::remove(tmp);
+  Analysis a(m);
+  CylinderRun out;
+  // The outer node on the x axis, and each cell's centroid radius.
+  Index outer = 0;
+  for (Index n = 0; n < m.mesh.num_nodes(); ++n)
+    if ((m.mesh.nodes[n] - Vec3(kB, 0, 0)).norm() < (m.mesh.nodes[outer] - Vec3(kB, 0, 0)).norm()) outer = n;
+  const Body& body = *m.bodies.front();
+  a.on_increment([&](const Analysis& an, const IncrementRecord& rec) {
+    Point pt;
+    pt.p = rec.fraction * p;
+    pt.ub = an.displacement()(an.dofs().dof(outer, 0));
+    // Plastic front: the outermost cell centroid with plastic strain at some quadrature point.
+    pt.front = kA;
+    const QuadratureHistory& hist = an.history(0);
+    for (size_t bi = 0; bi < body.blocks().size(); ++bi) {
+      const ElementBlock& b = body.blocks()[bi];
+      const Index nq = body.points_per_element(bi);
+      for (Index e = 0; e < b.size(); ++e) {
+        const Real* v = hist.committed(bi, e);
+        bool plastic = false;
+        for (Index q = 0; q < nq; ++q) plastic = plastic || v[q * hist.per_point() + J2Plasticity::kAlpha] > 0;
+        if (!plastic) continue;
+        Vec3 c = Vec3::Zero();
+        for (int k = 0; k < b.nodes_per_element(); ++k) c += m.mesh.nodes[b.element(e)[k]];
+        pt.front = std::max(pt.front, (c / b.nodes_per_element()).head<2>().norm());
+      }
+    }
+    out.curve.push_back(pt);
+  });
+  out.summary = a.run();
+  return out;
+}
+
+}  // namespace
+
+TEST(Plasticity, ThickCylinderFollowsHillUpToTheLimitPressure) {
+  const Real h = 0.005;
+  const CylinderRun r = run_cylinder(0.99 * kPlim, h, "{initial: 0.05, max: 0.05}");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  int plastic_points = 0;
+  for (const Point& pt : r.curve) {
+    const Real ref = outer_displacement(pt.p);
+    std::printf("p = %7.2f MPa (%.3f p_lim): u(b) = %.5f mm, Hill %.5f mm (%+.2f %%; Hill's p for it %+.2f %%); plastic "
+                "front %.1f mm, Hill %.1f mm\n",
+                pt.p / 1e6, pt.p / kPlim, pt.ub * 1e3, ref * 1e3, 100 * (pt.ub - ref) / ref,
+                100 * (hill_pressure_for(pt.ub) - pt.p) / pt.p, pt.front * 1e3,
+                pt.p > hill_pressure(kA) ? hill_front(pt.p) * 1e3 : kA * 1e3);
+    // Near p_lim the curve is nearly flat (u grows without bound), so it is compared in
+    // pressure: the pressure at which Hill's curve has the computed displacement.
+    EXPECT_NEAR(hill_pressure_for(pt.ub), pt.p, 0.01 * pt.p) << "p = " << pt.p;
+    EXPECT_NEAR(pt.ub, ref, 0.03 * ref) << "p = " << pt.p;
+    if (pt.p > hill_pressure(kA)) {
+      ++plastic_points;
+      // The front lies between cell centroids: within one and a half elements (quad9 of size h).
+      EXPECT_NEAR(pt.front, hill_front(pt.p), 1.5 * h) << "p = " << pt.p;
+    } else {
+      EXPECT_EQ(pt.front, kA) << "no plastic strain below first yield, p = " << pt.p;
+    }
+  }
+  EXPECT_GE(plastic_points, 8);
+  // Newton's iterations per increment stay few (the consistent tangent): logged.
+  int its = 0;
+  for (const auto& rec : r.summary.increments) its += rec.iterations;
+  std::printf("%zu increments, %d Newton iterations\n", r.summary.increments.size(), its);
+  EXPECT_LE(its, 6 * static_cast<int>(r.summary.increments.size()));
+}
+
+// Beyond the limit pressure no equilibrium exists: asked for 1.03 p_lim, the run cuts its
+// increments back and gives up with its last converged pressure within 1 % of p_lim (the
+// issue's check that the limit pressure is reached within 1 %; a locking discretization would
+// carry more).
+TEST(Plasticity, ThickCylinderCannotCarryMoreThanTheLimitPressure) {
+  const CylinderRun r = run_cylinder(1.03 * kPlim, 0.005, "{initial: 0.05, max: 0.05, min: 1e-3}");
+  EXPECT_FALSE(r.summary.completed) << "1.03 p_lim carried";
+  ASSERT_FALSE(r.curve.empty());
+  const Real last = r.curve.back().p;
+  std::printf("last converged pressure %.3f MPa = %.4f p_lim (p_lim %.3f MPa); u(b) there %.4f mm (elastic limit %.4f)\n",
+              last / 1e6, last / kPlim, kPlim / 1e6, r.curve.back().ub * 1e3, outer_displacement(hill_pressure(kA)) * 1e3);
+  EXPECT_GT(last, 0.99 * kPlim);
+  EXPECT_LT(last, 1.01 * kPlim);
+}
