@@ -22,10 +22,13 @@ struct GridCase {
   std::string method = "lagrange";
   Real hc = 0.01;                // element size at the contact (mm)
   Real unit = 1;                 // 1: mm, N, MPa; 1e-3: m, N, Pa (the same mesh, scaled)
+  std::string discretization = "node_to_segment";
 };
 
 inline std::string grid_name(const GridCase& c) {
-  std::string s = fmt::format("{}_mu{:g}_ratio{:g}_hc{:g}{}", c.method, c.mu, c.ratio, c.hc, c.unit == 1 ? "" : "_SI");
+  std::string s = fmt::format("{}{}_mu{:g}_ratio{:g}_hc{:g}{}",
+                              c.discretization == "node_to_segment" ? "" : c.discretization + "_", c.method, c.mu,
+                              c.ratio, c.hc, c.unit == 1 ? "" : "_SI");
   for (char& ch : s)
     if (ch == '.') ch = 'p';
   return s;
@@ -51,6 +54,7 @@ contact:
   - name: cm
     master: auto
     surfaces: [CylinderSurface, BlockTop]
+    discretization: {discretization}
     enforcement: {{method: {method}}}
     friction: {{law: coulomb, mu: {mu}}}
 steps:
@@ -72,7 +76,8 @@ checks:
 )",
                      fmt::arg("name", grid_name(c)), fmt::arg("geo", geo.string()), fmt::arg("hc", c.hc),
                      fmt::arg("L", L), fmt::arg("E", 210000 * S), fmt::arg("method", c.method), fmt::arg("mu", c.mu),
-                     fmt::arg("dy", -d * L), fmt::arg("q", q * S));
+                     fmt::arg("dy", -d * L), fmt::arg("q", q * S),
+                     fmt::arg("discretization", c.discretization));
 }
 
 struct GridResult {

@@ -122,7 +122,7 @@ void check_combination(const ContactCombination& c) {
 
   // Tangential stiffness: automatic first; others until some closed nodes stick and others slip.
   const std::vector<Real> tangential =
-      c.friction == "none" ? std::vector<Real>{0.0} : std::vector<Real>{0.0, 4000.0, 250.0, 64000.0, 30.0};
+      c.friction == "none" ? std::vector<Real>{0.0} : std::vector<Real>{0.0, 4000.0, 250.0, 64000.0, 30.0, 12000.0, 20000.0, 100.0};
   for (size_t attempt = 0; attempt < tangential.size(); ++attempt) {
     cs.tangential_penalty = tangential[attempt];
     std::vector<std::unique_ptr<ContactInterface>> pairs;
@@ -267,6 +267,14 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   EXPECT_EQ(check_contact_combination(mortar_friction).key, "friction");
   mortar_friction.friction = "none";
   EXPECT_TRUE(check_contact_combination(mortar_friction).message.empty());
+  ContactCombination sts_friction;
+  sts_friction.discretization = "segment_to_segment";
+  sts_friction.friction = "coulomb";
+  EXPECT_TRUE(check_contact_combination(sts_friction).message.empty()) << "2D segment_to_segment has friction";
+  sts_friction.dimension = Dimension::three_d;
+  sts_friction.slave_facet = sts_friction.master_facet = ElementType::tri6;
+  EXPECT_EQ(check_contact_combination(sts_friction).key, "friction");
+  EXPECT_NE(check_contact_combination(sts_friction).message.find("2D only"), std::string::npos);
   ContactCombination smooth;
   smooth.smoothing = "hermite";
   smooth.master_facet = ElementType::line3;

@@ -15,20 +15,25 @@ using namespace signorini;
 
 class FrictionGrid : public ::testing::TestWithParam<test::GridCase> {};
 
-TEST_P(FrictionGrid, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
-  const test::GridResult g = test::run_grid_case(GetParam());
+// Runs a case: it completes without a cutback, within `per_increment` Newton iterations per
+// increment on average, c/a within 10 % of Cattaneo-Mindlin and Q in equilibrium with the load.
+void check_grid_case(const test::GridCase& c, Real per_increment) {
+  const test::GridResult g = test::run_grid_case(c);
   ASSERT_TRUE(g.run.summary.completed) << g.run.summary.failure;
+  EXPECT_EQ(g.cutbacks, 0) << "the default first increment of each step should converge";
+  EXPECT_LE(g.iterations, per_increment * g.increments) << "Newton iterations per increment on average";
+  EXPECT_NEAR(g.ca, g.expected, 0.10 * g.expected) << "Cattaneo-Mindlin: c/a = sqrt(1 - Q/(mu P))";
+  EXPECT_NEAR(g.Q, c.ratio * c.mu * 388.4, 1e-6 * g.Q) << "equilibrium with the load";
+}
+
+TEST_P(FrictionGrid, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
   // Targets (issue 13): no cutback, and 8 Newton iterations per increment on average. The
   // multipliers meet both (12-15 iterations for the two steps). The penalty (and the augmented
   // Lagrangian's penalty system), stiff in both directions, take 10.5-11.5 per increment at
   // mu = 0.1 (the line search holds back the press's stick/slip switches): the iteration
   // guard below is 13 for them, the target for the multipliers. Runs are reproducible bit for
   // bit (Reproducible.SameNewtonPathWithOneAndTwoThreads), so these counts do not drift.
-  EXPECT_EQ(g.cutbacks, 0) << "the default first increment of each step should converge";
-  const int per_increment = GetParam().method == "lagrange" ? 8 : 13;
-  EXPECT_LE(g.iterations, per_increment * g.increments) << "Newton iterations per increment on average";
-  EXPECT_NEAR(g.ca, g.expected, 0.10 * g.expected) << "Cattaneo-Mindlin: c/a = sqrt(1 - Q/(mu P))";
-  EXPECT_NEAR(g.Q, GetParam().ratio * GetParam().mu * 388.4, 1e-6 * g.Q) << "equilibrium with the load";
+  check_grid_case(GetParam(), GetParam().method == "lagrange" ? 8 : 13);
 }
 
 std::vector<test::GridCase> coarse_grid() {
@@ -40,6 +45,32 @@ std::vector<test::GridCase> coarse_grid() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGrid, ::testing::ValuesIn(coarse_grid()),
+                         [](const auto& info) { return test::grid_name(info.param); });
+
+// Segment-to-segment (integration-point contact, 2D friction): the same family, each method at
+// two points of the grid. Its slip per slave node (the relative motion of the slave facets'
+// Gauss points and the master points they project on, averaged with the node's shape function)
+// gives the Cattaneo-Mindlin stick zone within 10 % (measured, every method: -4.4 % at mu 0.3,
+// Q/(mu P) 0.6, one node short of node-to-segment's -0.8 %; -1.2 % at mu 0.8, 0.2, as
+// node-to-segment), with no cutback. It takes more Newton iterations than node-to-segment:
+// measured 9 and 6 per increment with multipliers (node-to-segment 7.5 and 6), 14.5 and 10.5
+// with the penalty systems (node-to-segment's penalty 7 and 4.5); the guards are those counts
+// (runs are reproducible bit for bit), above the issue's target of 8.
+class FrictionGridSegmentToSegment : public ::testing::TestWithParam<test::GridCase> {};
+
+TEST_P(FrictionGridSegmentToSegment, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
+  check_grid_case(GetParam(), GetParam().method == "lagrange" ? 9 : 14.5);
+}
+
+std::vector<test::GridCase> sts_grid() {
+  std::vector<test::GridCase> v;
+  for (const char* m : {"lagrange", "augmented_lagrangian", "penalty"})
+    for (auto [mu, ratio] : {std::pair{0.3, 0.6}, std::pair{0.8, 0.2}})
+      v.push_back({mu, ratio, m, 0.01, 1.0, "segment_to_segment"});
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridSegmentToSegment, ::testing::ValuesIn(sts_grid()),
                          [](const auto& info) { return test::grid_name(info.param); });
 
 // The same deck in (mm, N, MPa) and in (m, N, Pa), the mesh drawn in mm and scaled: the same

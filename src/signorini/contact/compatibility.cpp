@@ -78,12 +78,14 @@ const std::vector<Rule>& rules() {
          return std::string("mortar is frictionless so far (weighted slips are not built yet): use node_to_segment "
                             "for friction");
        }},
-      {"segment_to_segment with friction",
-       [](const ContactCombination& c) { return c.discretization == "segment_to_segment" && c.friction != "none"; },
+      {"segment_to_segment with friction in 3D",
+       [](const ContactCombination& c) {
+         return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension);
+       },
        "friction",
        [](const ContactCombination&) {
-         return std::string("segment_to_segment is frictionless so far (weighted slips are not built yet): use "
-                            "node_to_segment for friction");
+         return std::string("segment_to_segment has friction in 2D only so far (the variation of the averaged 3D "
+                            "slave normal is not built yet): use node_to_segment for 3D friction");
        }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {

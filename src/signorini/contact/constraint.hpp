@@ -29,6 +29,11 @@ struct Constraint {
   // The closest master point as a combination of nodes[1..] (friction: where the slave node
   // touches the master material).
   std::vector<Real> master_weights;
+  // The slave node's own coefficient in that combination's counterpart: the slip origin is
+  // x_s - (slave_coefficient x_s + ...); 1 but for segment-to-segment, whose weighted slave
+  // point is a combination of the slave facets' nodes (master_weights then holds minus the
+  // other slave nodes' coefficients too).
+  Real slave_coefficient = 1;
   // Friction kinematics, set by the contact interface for a pair with friction: d = x_s - x_0
   // with x_0 the master material point that was closest at the start of the increment (its
   // tangential part is the slip of the increment, course: g_t dt = delta rho(xi)), and

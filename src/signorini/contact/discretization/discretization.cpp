@@ -12,11 +12,30 @@
 
 namespace signorini {
 
+namespace {
+
+// Appends a node to c with zero derivatives of the gap and the normal (a deformable master: no
+// extra DOFs after the nodes').
+void append_node(Constraint& c, Index node, int dim) {
+  const Index old = c.grad.size();
+  c.nodes.push_back(node);
+  c.grad.conservativeResize(old + dim);
+  c.grad.tail(dim).setZero();
+  c.hess.conservativeResize(old + dim, old + dim);
+  c.hess.rightCols(dim).setZero();
+  c.hess.bottomRows(dim).setZero();
+  c.normal_jacobian.conservativeResize(dim, old + dim);
+  c.normal_jacobian.rightCols(dim).setZero();
+}
+
+}  // namespace
+
 SlipOrigin Discretization::origin(const Constraint& c, const Vec3&, const VecX&) const {
   // A deformable master: the master point as the combination of master nodes that c found.
   SlipOrigin o;
   o.valid = c.kind != ConstraintKind::none;
   for (size_t k = 0; k < c.master_weights.size() && o.valid; ++k) o.nodes.emplace_back(c.nodes[k + 1], c.master_weights[k]);
+  if (o.valid && c.slave_coefficient != 1) o.nodes.emplace_back(c.slave, 1 - c.slave_coefficient);
   return o;
 }
 
@@ -24,18 +43,8 @@ void Discretization::add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, c
   // d = x_s - sum_k w_k x_k over the origin's nodes; nodes c does not hold yet are appended
   // (with zero gap derivatives).
   const int dim = static_cast<int>(c.normal_jacobian.rows());
-  for (auto [node, w] : o.nodes) {
-    if (std::find(c.nodes.begin(), c.nodes.end(), node) != c.nodes.end()) continue;
-    const Index old = c.grad.size();  // no extra DOFs on a deformable master
-    c.nodes.push_back(node);
-    c.grad.conservativeResize(old + dim);
-    c.grad.tail(dim).setZero();
-    c.hess.conservativeResize(old + dim, old + dim);
-    c.hess.rightCols(dim).setZero();
-    c.hess.bottomRows(dim).setZero();
-    c.normal_jacobian.conservativeResize(dim, old + dim);
-    c.normal_jacobian.rightCols(dim).setZero();
-  }
+  for (auto [node, w] : o.nodes)
+    if (std::find(c.nodes.begin(), c.nodes.end(), node) == c.nodes.end()) append_node(c, node, dim);
   c.slip_jacobian.setZero(dim, c.grad.size());
   c.slip = x[c.slave];
   for (int d = 0; d < dim; ++d) c.slip_jacobian(d, d) = 1;
@@ -200,6 +209,28 @@ class DeformableMaster : public Discretization {
     }
   }
 
+  // The weighted-gap constraint's normal (2D): the slave surface's averaged normal at c's
+  // slave node (mortar's nodal normal), turned to point from the master towards the slave,
+  // with its variation. A node of a facet around the slave node that c does not hold yet (its
+  // points found no master: the normal depends on it, the gap does not) is appended.
+  void set_slave_normal_2d(const MasterSurface& sf, const std::vector<Vec3>& x, Constraint& c) const {
+    const int dim = dim_;
+    Vec3 n;
+    std::vector<Index> nn;
+    MatX dn;
+    mortar_nodal_normal_2d(sf, c.slave, x, n, nn, dn);
+    c.normal = -n;
+    c.normal_jacobian.setZero(dim, c.grad.size());
+    for (size_t a = 0; a < nn.size(); ++a) {
+      const Index k = std::find(c.nodes.begin(), c.nodes.end(), nn[a]) - c.nodes.begin();
+      if (k == static_cast<Index>(c.nodes.size())) {
+        if (c.master_weights.size() + 1 == c.nodes.size()) c.master_weights.push_back(0);
+        append_node(c, nn[a], dim);
+      }
+      c.normal_jacobian.middleCols(k * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
+    }
+  }
+
   SlaveSurface slave_;
   int dim_;
   MasterSurface master_;
@@ -313,10 +344,6 @@ class Mortar final : public DeformableMaster {
         facet[e].push_back(m);
       }
     gather(slave_facets_, index_, results, facet, out);
-    const int dim = dim_;
-    auto column = [](Constraint& c, Index node) {
-      return static_cast<Index>(std::find(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin());
-    };
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
     for (Constraint& c : out) {
@@ -331,17 +358,7 @@ class Mortar final : public DeformableMaster {
       c.gap /= c.weight;
       c.grad /= c.weight;
       c.hess /= c.weight;
-      Vec3 n;
-      std::vector<Index> nn;
-      MatX dn;
-      mortar_nodal_normal_2d(slave_facets_, c.slave, x, n, nn, dn);
-      c.normal = -n;
-      c.normal_jacobian.setZero(dim, c.grad.size());
-      for (size_t a = 0; a < nn.size(); ++a) {
-        const Index k = column(c, nn[a]);  // the normal's nodes are among the weighted gap's
-        if (k < static_cast<Index>(c.nodes.size()))
-          c.normal_jacobian.middleCols(k * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
-      }
+      set_slave_normal_2d(slave_facets_, x, c);
     }
   }
 
@@ -393,7 +410,22 @@ class SegmentToSegment final : public DeformableMaster {
       results[e].push_back(std::move(r));
     }
     gather(slave_facets_, index_, results, facet, out);
-    for (Constraint& c : out) {
+    // Friction's slip origin: the weighted relative positions gathered over each constraint's
+    // nodes (slip_j = sum of the facets' shares / w_j, in master_weights and slave_coefficient).
+    std::vector<VecX> relative(out.size());
+    for (size_t j = 0; j < out.size(); ++j)
+      if (out[j].kind != ConstraintKind::none) relative[j].setZero(static_cast<Index>(out[j].nodes.size()));
+    for (Index e = 0; e < ne; ++e)
+      for (const IntegrationResult& r : results[e])
+        for (size_t k = 0; k < r.relative.size(); ++k) {
+          const Index j = index_[slave_facets_.facets[e][k]];
+          if (j < 0) continue;
+          const std::vector<Index>& cn = out[j].nodes;
+          for (size_t a = 0; a < r.nodes.size(); ++a)
+            relative[j](std::find(cn.begin(), cn.end(), r.nodes[a]) - cn.begin()) += r.relative[k](static_cast<Index>(a));
+        }
+    for (size_t j = 0; j < out.size(); ++j) {
+      Constraint& c = out[j];
       if (c.kind == ConstraintKind::none) continue;
       if (!(c.weight > 0)) {
         Constraint open;
@@ -405,10 +437,18 @@ class SegmentToSegment final : public DeformableMaster {
       c.gap /= c.weight;
       c.grad /= c.weight;
       c.hess /= c.weight;
-      // The slave's averaged normal, turned to point from the master to the slave; its
-      // variation is not built (frictionless only, where enforcement does not read it).
-      c.normal = -slave_facets_.node_normal(c.slave, x, dim_);
-      c.normal_jacobian.setZero(dim_, c.grad.size());
+      c.slave_coefficient = relative[j](0) / c.weight;
+      c.master_weights.resize(c.nodes.size() - 1);
+      for (size_t k = 1; k < c.nodes.size(); ++k) c.master_weights[k - 1] = -relative[j](static_cast<Index>(k)) / c.weight;
+      // The slave's averaged normal, turned to point from the master to the slave, with its
+      // variation in 2D (mortar's nodal normal); in 3D its variation is not built yet
+      // (frictionless only, where enforcement does not read it).
+      if (dim_ == 2) {
+        set_slave_normal_2d(slave_facets_, x, c);
+      } else {
+        c.normal = -slave_facets_.node_normal(c.slave, x, dim_);
+        c.normal_jacobian.setZero(dim_, c.grad.size());
+      }
     }
   }
 

@@ -78,6 +78,7 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
   out.gap.assign(ns, 0.0);
   out.grad.assign(ns, VecX());
   out.hess.assign(ns, MatX());
+  out.relative.assign(ns, VecX());
   auto column = [&](Index node) {
     auto it = std::find(out.nodes.begin(), out.nodes.end(), node);
     if (it != out.nodes.end()) return static_cast<Index>(it - out.nodes.begin());
@@ -138,10 +139,11 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
   for (int j = 0; j < ns; ++j) {
     out.grad[j].setZero(nn);
     out.hess[j].setZero(nn, nn);
+    out.relative[j].setZero(static_cast<Index>(out.nodes.size()));
   }
   if (out.points == 0) return;
-  VecX g;
-  MatX H;
+  VecX g, Nm;
+  MatX H, dNm;
   std::vector<Index> at;
   for (size_t q = 0; q < hits.size(); ++q) {
     const PointHit& h = hits[q];
@@ -169,11 +171,17 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b)
         Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((a + 1) * dim, (b + 1) * dim, dim, dim);
+    master.basis(h.facet).eval(h.fp.xi, Nm, dNm);
+    VecX Ntq;
+    modified_shape_functions(f.type, N, Ntq);
     for (int j = 0; j < ns; ++j) {
+      const Real wr = Ntq(j) * f.weight[q];
       const Real w = f.phi[q](j) * f.weight[q];
       out.gap[j] += w * h.fp.gap;
       out.grad[j] += w * gq;
       out.hess[j] += w * Hq;
+      for (int i = 0; i < ns; ++i) out.relative[j](i) += wr * N(i);
+      for (int a = 0; a < nm; ++a) out.relative[j](at[a]) -= wr * Nm(a);
     }
   }
 }

@@ -45,6 +45,16 @@ struct IntegrationResult {
   std::vector<Real> gap;
   std::vector<VecX> grad;
   std::vector<MatX> hess;
+  // Friction: per facet node j, the coefficients over `nodes` of its weighted relative
+  // position sum_q N~_j(xi_q) w_q (x_s(xi_q) - x_m(xi_q^m)), the slave point minus the master
+  // point it projects on (with the master parameters frozen at the start of the increment, the
+  // slip origin's combination). Weighted with the positive (modified) basis N~, not with the
+  // dual functions: divided by w_j = int N~_j dA0 it is an average of the points' relative
+  // motion. The dual-weighted slip (the mortar form of Popp et al. 2010) converged as well with
+  // Lagrange multipliers but made the penalty's stick/slip states cycle at mu = 0.3 on the
+  // press-then-shear family (docs/contact.md): near the edge of the contact zone the dual
+  // functions change sign and so does a partly covered node's weighted slip.
+  std::vector<VecX> relative;
   Index first_facet = -1;
   int points = 0;  // integration points that found the master
 };
