@@ -103,6 +103,24 @@ TEST(Deck, WrongTypes) {
   EXPECT_MESSAGE(m, "type_bodies.yaml:7", "bodies", "expected a list");
 }
 
+// Issue 17 (input hardening): a key twice in one mapping (yaml-cpp keeps the first silently),
+// at the top level and inside a section, names both lines; infinite and NaN numbers are
+// refused wherever a number is read.
+TEST(Deck, DuplicateKeysAndNonFiniteNumbers) {
+  auto m = error_of("dup_top", kGood + "title: again\n");
+  EXPECT_MESSAGE(m, "dup_top.yaml:15", "'title'", "duplicate key 'title' (first at line 1)");
+  m = error_of("dup_inner", replace(kGood, "nu: 0.3}", "nu: 0.3,\n          E: 1}"));
+  EXPECT_MESSAGE(m, "dup_inner.yaml:6", "materials.steel.E", "duplicate key 'E' (first at line 5)");
+  m = error_of("dup_list", replace(kGood, "{set: Left, ux: 0}", "{set: Left, ux: 0, ux: 1}"));
+  EXPECT_MESSAGE(m, "dup_list.yaml:11", "steps[0].boundary[0].ux", "duplicate key 'ux'");
+  m = error_of("inf", replace(kGood, "traction: [1e6, 0]", "traction: [-.inf, 0]"));
+  EXPECT_MESSAGE(m, "inf.yaml:14", "steps[0].loads[0].traction[0]", "expected a finite number, got '-.inf'");
+  m = error_of("nan", replace(kGood, "E: 210e9", "E: .nan"));
+  EXPECT_MESSAGE(m, "nan.yaml:5", "materials.steel.E", "finite");
+  m = error_of("overflow", replace(kGood, "E: 210e9", "E: 1e400"));
+  EXPECT_MESSAGE(m, "overflow.yaml:5", "materials.steel.E", "1e400");
+}
+
 TEST(Deck, OutOfRange) {
   auto m = error_of("nu_half", replace(kGood, "nu: 0.3", "nu: 0.5"));
   EXPECT_MESSAGE(m, "nu_half.yaml:5", "materials.steel.nu", "< 0.5");

@@ -3,7 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "signorini/contact/compatibility.hpp"
@@ -58,11 +60,15 @@ struct Node {
   }
   Real as_number() const {
     if (!node.IsScalar()) fail("expected a number");
+    Real v = 0;
     try {
-      return node.as<Real>();
+      v = node.as<Real>();
     } catch (const YAML::Exception&) {
       fail("expected a number, got '" + node.as<std::string>() + "'");
     }
+    // .inf, .nan and numbers beyond the double range (read as infinite) are no input.
+    if (!std::isfinite(v)) fail("expected a finite number, got '" + node.as<std::string>() + "'");
+    return v;
   }
   std::string as_string() const {
     if (!node.IsScalar()) fail("expected a text value");
@@ -106,6 +112,27 @@ struct Node {
     return v;
   }
 };
+
+// Duplicate keys in any mapping of the deck: YAML forbids them, and yaml-cpp would keep the
+// first silently. The message names both lines.
+void reject_duplicate_keys(const YAML::Node& node, const std::string& file, const std::string& path) {
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) reject_duplicate_keys(node[i], file, path + "[" + std::to_string(i) + "]");
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> seen;  // key -> line (1-based)
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string k = it->first.IsScalar() ? it->first.as<std::string>() : std::string("(a non-scalar key)");
+    const int line = it->first.Mark().line + 1;
+    const std::string kp = path.empty() ? k : path + "." + k;
+    if (auto [at, fresh] = seen.emplace(k, line); !fresh)
+      throw InputError(file + ":" + std::to_string(line), kp,
+                       fmt::format("duplicate key '{}' (first at line {}): YAML does not allow a key twice in one mapping",
+                                   k, at->second));
+    reject_duplicate_keys(it->second, file, kp);
+  }
+}
 
 const TypeSpec& deck_spec(const Registry& r, const std::string& name) {
   const TypeSpec* s = r.find("deck", name);
@@ -685,6 +712,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   } catch (const YAML::Exception& e) {
     throw InputError(path, "", std::string("cannot read the deck: ") + e.what());
   }
+  reject_duplicate_keys(root, path, "");
   Node top{root, path, ""};
   if (!root.IsMap()) throw InputError(path, "", "a deck is a mapping of sections (title, analysis, mesh, ...)");
   top.check_keys(deck_spec(registry, "deck"));
