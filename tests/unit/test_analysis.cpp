@@ -166,6 +166,25 @@ TEST(Analysis, MissingSupportsFailFastWithAClearReason) {
   EXPECT_NE(sum3.failure.find("free to"), std::string::npos) << sum3.failure;
 }
 
+// Issue 17: a huge load on a supported model is not a missing support. Small strain is
+// linear: the load 5e30 gives 5e30 times the unit load's displacements (a round-off-singular
+// model would amplify the forces ~1e16 over the stiffness scale; this one about 1).
+TEST(Analysis, HugeLoadIsNotTakenForMissingSupports) {
+  VecX unit;
+  for (Real f : {1.0, 5e30}) {
+    Model m = block(Dimension::plane_strain);
+    Step s;
+    s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+    s.loads = {load(LoadKind::traction, "ymax", Vec3(f, -4 * f, 0))};
+    m.steps = {s};
+    Analysis a(m);
+    AnalysisSummary sum = a.run();
+    ASSERT_TRUE(sum.completed) << "load " << f << ": " << sum.failure;
+    if (f == 1.0) unit = a.displacement();
+    else EXPECT_LT((a.displacement() / f - unit).norm(), 1e-10 * unit.norm());
+  }
+}
+
 TEST(Analysis, EveryLinearSolverGivesTheSameAnswer) {
   VecX reference;
   for (const std::string& solver : linear_solver_names()) {

@@ -473,12 +473,20 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
                             "lacks supports (a rigid-body motion is free) in some direction");
     throw;
   }
-  // (displacements only: a first multiplier estimate may be large, a pressure.)
+  // A free rigid-body motion that the factorization did not flag as singular: its pivot is
+  // round-off, and the step's displacements are the forces amplified by ~1e16 over the
+  // stiffness scale. The amplification du_max D / |R|_max (D the mean stiffness diagonal) is
+  // unit-free: a supported model stays far below 1e13 (its conditioning), whatever the load,
+  // so a huge load (5e30) is not taken for a missing support. (Displacements only: a first
+  // multiplier estimate may be large, a pressure.)
   const Real du_max = du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff();
-  if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) &&
-                          du_max > 1e8 * (1 + u_.head(dofs_.num_dofs()).cwiseAbs().maxCoeff()) && du_max > 1e6))
-    throw FatalModelError("the first solve from the undeformed state gives unbounded displacements: the model "
-                          "probably lacks supports (a rigid-body motion is free) in some direction");
+  const Real r_max = R.head(dofs_.num_dofs()).cwiseAbs().maxCoeff();
+  const Real amplification = r_max > 0 ? du_max * backend_->mean_abs_diagonal() / r_max : 0.0;
+  if (!du.allFinite() || (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) && amplification > 1e13))
+    throw FatalModelError(fmt::format("the first solve from the undeformed state gives unbounded displacements (the "
+                                      "forces amplified {:.1e} times over the stiffness scale): the model probably "
+                                      "lacks supports (a rigid-body motion is free) in some direction",
+                                      amplification));
   summary_.solve_seconds += ts.seconds();
 }
 
