@@ -1,6 +1,8 @@
 #include "signorini/contact/enforcement/enforcement.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cassert>
 
 #include "signorini/core/error.hpp"
 #include "signorini/fem/coloring.hpp"
@@ -72,9 +74,13 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
 // r(dofs[k]) += scale v(k) for the entries of v (dofs may go on with multiplier rows that v
 // does not cover). No atomics: the callers' colouring keeps concurrent constraints on
 // disjoint rows.
+// Called inside OpenMP regions, where an exception cannot escape (std::terminate): a vector
+// longer than its DOFs is a programming error, asserted in debug builds; release builds add
+// the entries that have DOFs only (no read past `dofs`).
 void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real scale) {
-  if (static_cast<size_t>(v.size()) > dofs.size()) throw Error("contact assembly: a vector longer than its DOFs");
-  for (Index k = 0; k < v.size(); ++k)
+  assert(static_cast<size_t>(v.size()) <= dofs.size() && "contact assembly: a vector longer than its DOFs");
+  const Index n = std::min(v.size(), static_cast<Index>(dofs.size()));
+  for (Index k = 0; k < n; ++k)
     if (dofs[k] >= 0) r(dofs[k]) += scale * v(k);
 }
 
