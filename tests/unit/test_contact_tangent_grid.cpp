@@ -8,6 +8,8 @@
 // table adds its cases here.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <set>
 
 #include "common.hpp"
@@ -230,8 +232,18 @@ void check_combination(const ContactCombination& c) {
 
 // The whole table in two tests, 2D and 3D (a ctest process per combination would cost 0.3 s
 // each in start-up alone; two let ctest -j run them side by side). The log has a line per
-// combination; together they cover every supported one.
+// combination; together they cover every supported one. One thread each: the small contact
+// assemblies of the central differences gain nothing from a second one (3D: 88 s on one
+// thread, 80 s on two), and under ctest -j2 two threads per test oversubscribe the cores (the
+// 3D test then took 233 s).
+struct OneThread {
+  int before = omp_get_max_threads();
+  OneThread() { omp_set_num_threads(1); }
+  ~OneThread() { omp_set_num_threads(before); }
+};
+
 TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
+  OneThread one;
   const auto all = supported_contact_combinations();
   ASSERT_GT(all.size(), 100u);
   for (const ContactCombination& c : all)
@@ -239,6 +251,7 @@ TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
 }
 
 TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {
+  OneThread one;
   for (const ContactCombination& c : supported_contact_combinations())
     if (c.dimension == Dimension::three_d) check_combination(c);
 }
