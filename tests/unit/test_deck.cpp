@@ -4,9 +4,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "signorini/core/error.hpp"
 #include "signorini/io/deck.hpp"
+#include "signorini/mesh/gmsh_reader.hpp"
 
 using namespace signorini;
 namespace fs = std::filesystem;
@@ -119,6 +121,32 @@ TEST(Deck, DuplicateKeysAndNonFiniteNumbers) {
   EXPECT_MESSAGE(m, "nan.yaml:5", "materials.steel.E", "finite");
   m = error_of("overflow", replace(kGood, "E: 210e9", "E: 1e400"));
   EXPECT_MESSAGE(m, "overflow.yaml:5", "materials.steel.E", "1e400");
+}
+
+// Issue 17: a .geo is a Gmsh program; its side effects are refused (with the script's line)
+// before Gmsh runs it, unless the deck says mesh: {trusted: true}. The shell command below
+// would create a file: it must not exist after the refused read.
+TEST(Deck, GeoSideEffectsRefusedUnlessTrusted) {
+  EXPECT_EQ(geo_side_effect("// SystemCall \"rm -rf x\";\n/* Exit; */ Printf(\"Save Print\");\nPoint(1) = {0,0,0};"), "");
+  EXPECT_EQ(geo_side_effect("a = 1;\nb = 2; Exit;"), "line 2: Exit");
+  EXPECT_EQ(geo_side_effect("Include \"parts/a.geo\";"), "");
+  EXPECT_NE(geo_side_effect("Include \"../a.geo\";").find("outside the script's folder"), std::string::npos);
+  EXPECT_NE(geo_side_effect("\n\nMerge \"/etc/passwd\";").find("line 3: Merge"), std::string::npos);
+  const fs::path dir = fs::temp_directory_path() / "signorini_deck_tests";
+  fs::create_directories(dir);
+  const fs::path marker = dir / "systemcall_ran";
+  fs::remove(marker);
+  std::ifstream in(std::string(SIGNORINI_TEST_DATA) + "/square.geo");
+  std::stringstream geo;
+  geo << in.rdbuf() << "SystemCall \"touch " << marker.string() << "\";\n";
+  std::ofstream(dir / "evil.geo") << geo.str();
+  const std::string deck = replace(kGood, "mesh: {file: SQUARE}", "mesh: {file: " + (dir / "evil.geo").string() + "}");
+  auto m = error_of("evil", deck);
+  EXPECT_MESSAGE(m, "evil.yaml:3", "mesh.file", "line 20: SystemCall", "trusted: true");
+  EXPECT_FALSE(fs::exists(marker)) << "the refused script's command ran";
+  Registry r = default_registry();
+  Model ok = read_deck(write_deck("trusted", replace(deck, "evil.geo}", "evil.geo, trusted: true}")), r);
+  EXPECT_EQ(ok.mesh.num_cells(), 16);
 }
 
 TEST(Deck, OutOfRange) {

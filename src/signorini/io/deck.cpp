@@ -168,6 +168,7 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
     }
   }
   opt.order = static_cast<int>(n.number(spec, "order"));
+  opt.trusted = n.has("trusted") && n.child("trusted").as_bool();
   fs::path file = n.child("file").as_string();
   if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
   m.mesh = read_gmsh(file.string(), opt);

@@ -208,7 +208,10 @@ void register_deck_sections(Registry& r) {
           number("order", "element order to raise the mesh to after meshing (0: keep)", "0", 0, 2),
           number("scale", "factor on every node coordinate after reading, e.g. 1e-3 for a mesh drawn in mm in a deck "
                           "in m (the .geo's parameters are in the mesh's own units)",
-                 "1", 1e-300, 1e300)}});
+                 "1", 1e-300, 1e300),
+          text("trusted", "run the .geo's side effects (SystemCall, Exit, Save, Print, OnelabRun, Include or Merge "
+                          "of files outside its folder), which are refused otherwise",
+               "false", ParamKind::boolean)}});
   r.add({"deck", "body", "A body: the cells of one region with one material, or rigid.",
          {text("name", "name used in messages and output", std::nullopt),
           text("region", "physical group of cells", std::nullopt),

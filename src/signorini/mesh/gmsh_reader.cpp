@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cstring>
 #include <fcntl.h>
+#include <cctype>
 #include <filesystem>
+#include <set>
 #include <fstream>
 #include <mutex>
 #include <regex>
@@ -136,6 +138,50 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
 
 }  // namespace
 
+std::string geo_side_effect(const std::string& t) {
+  static const std::set<std::string> refused = {"SystemCall", "Exit", "Save", "Print", "OnelabRun"};
+  int line = 1;
+  size_t i = 0;
+  const size_t n = t.size();
+  // The next string literal after position i (its contents), for Include and Merge.
+  auto next_string = [&](size_t from) {
+    size_t q = t.find('"', from);
+    if (q == std::string::npos) return std::string();
+    size_t e = t.find('"', q + 1);
+    return t.substr(q + 1, e == std::string::npos ? std::string::npos : e - q - 1);
+  };
+  while (i < n) {
+    const char c = t[i];
+    if (c == '\n') {
+      ++line, ++i;
+    } else if (c == '/' && i + 1 < n && t[i + 1] == '/') {
+      while (i < n && t[i] != '\n') ++i;
+    } else if (c == '/' && i + 1 < n && t[i + 1] == '*') {
+      i += 2;
+      while (i + 1 < n && !(t[i] == '*' && t[i + 1] == '/')) line += t[i++] == '\n';
+      i += 2;
+    } else if (c == '"') {
+      ++i;
+      while (i < n && t[i] != '"') line += t[i] == '\n', i += t[i] == '\\' ? 2 : 1;
+      ++i;
+    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      size_t e = i;
+      while (e < n && (std::isalnum(static_cast<unsigned char>(t[e])) || t[e] == '_')) ++e;
+      const std::string word = t.substr(i, e - i);
+      if (refused.count(word)) return "line " + std::to_string(line) + ": " + word;
+      if (word == "Include" || word == "Merge") {
+        const std::string file = next_string(e);
+        if (file.empty() || file[0] == '/' || file.find("..") != std::string::npos)
+          return "line " + std::to_string(line) + ": " + word + " \"" + file + "\" (outside the script's folder)";
+      }
+      i = e;
+    } else {
+      ++i;
+    }
+  }
+  return "";
+}
+
 Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   namespace fs = std::filesystem;
   const std::string where = options.where.empty() ? path : options.where;
@@ -143,6 +189,17 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   const std::string ext = fs::path(path).extension().string();
   if (ext != ".msh" && ext != ".geo")
     throw InputError(where, "mesh.file", "mesh file '" + path + "' must end in .msh or .geo");
+  if (ext == ".geo" && !options.trusted) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    if (const std::string bad = geo_side_effect(ss.str()); !bad.empty())
+      throw InputError(where, "mesh.file",
+                       "'" + path + "' " + bad +
+                           ": a .geo is a program, and Signorini does not run its side effects (SystemCall, Exit, "
+                           "Save, Print, OnelabRun, Include or Merge outside its folder) unless the deck says "
+                           "mesh: {trusted: true}");
+  }
   std::vector<std::string> args;
   if (!options.parameters.empty()) {
     if (ext != ".geo")

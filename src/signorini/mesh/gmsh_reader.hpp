@@ -12,7 +12,14 @@ struct GmshOptions {
   std::map<std::string, Real> parameters;  // .geo constants, declared with DefineConstant
   int order = 0;                           // element order to set after meshing (0: as is)
   std::string where;                       // deck location for error messages
+  bool trusted = false;                    // run a .geo's side effects (geo_side_effect)
 };
+
+// The first side effect of a .geo script outside plain geometry and meshing, as a message
+// naming its line ("" if none): SystemCall, Exit, Save, Print, OnelabRun, and Include or Merge
+// of a file outside the script's folder (absolute, or reaching up with ".."). Comments and
+// string contents are skipped. A .geo is a program; `signorini check` must not run commands.
+std::string geo_side_effect(const std::string& text);
 
 Mesh read_gmsh(const std::string& path, const GmshOptions& options = {});
 
