@@ -149,6 +149,15 @@ TEST(Deck, GeoSideEffectsRefusedUnlessTrusted) {
   EXPECT_EQ(ok.mesh.num_cells(), 16);
 }
 
+// Issue 17: `hc: 0` took 27 s to fail inside Gmsh; a parameter the .geo declares with a
+// positive default must stay positive, and the deck says so at once.
+TEST(Deck, NonPositiveMeshParameterWithPositiveDefault) {
+  for (const char* v : {"0", "-0.25"}) {
+    auto m = error_of("h_nonpositive", replace(kGood, "SQUARE}", std::string("SQUARE, parameters: {h: ") + v + "}}"));
+    EXPECT_MESSAGE(m, "h_nonpositive.yaml:3", "mesh.parameters.h", "positive default 0.25", "must stay positive");
+  }
+}
+
 TEST(Deck, OutOfRange) {
   auto m = error_of("nu_half", replace(kGood, "nu: 0.3", "nu: 0.5"));
   EXPECT_MESSAGE(m, "nu_half.yaml:5", "materials.steel.nu", "< 0.5");

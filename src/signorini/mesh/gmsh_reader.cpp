@@ -1,5 +1,6 @@
 #include "signorini/mesh/gmsh_reader.hpp"
 
+#include <fmt/format.h>
 #include <gmsh.h>
 #include <omp.h>
 #include <spawn.h>
@@ -13,6 +14,8 @@
 #include <filesystem>
 #include <set>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <mutex>
 #include <regex>
 #include <sstream>
@@ -27,8 +30,9 @@ namespace {
 
 std::mutex g_gmsh_mutex;  // the Gmsh library holds one global model
 
-// The names declared inside DefineConstant[...] blocks of a .geo file.
-std::vector<std::string> declared_constants(const std::string& text) {
+// The names declared inside DefineConstant[...] blocks of a .geo file, with their default
+// when it is a plain number (`name = 0.5` or `name = {0.5, ...}`; NaN otherwise).
+std::vector<std::string> declared_constants(const std::string& text, std::map<std::string, Real>* defaults = nullptr) {
   std::vector<std::string> names;
   size_t pos = 0;
   while ((pos = text.find("DefineConstant", pos)) != std::string::npos) {
@@ -46,6 +50,15 @@ std::vector<std::string> declared_constants(const std::string& text) {
     }
     for (std::sregex_iterator it(flat.begin(), flat.end(), entry), end; it != end; ++it)
       names.push_back((*it)[1]);
+    if (defaults) {
+      std::regex value(R"((?:^|[,\s\[])([A-Za-z_][A-Za-z0-9_]*)\s*=\s*\{?\s*([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*[,}\]]?)");
+      for (std::sregex_iterator it(body.begin(), body.end(), value), end; it != end; ++it) {
+        char* stop = nullptr;
+        const std::string v = (*it)[2];
+        const double d = std::strtod(v.c_str(), &stop);
+        (*defaults)[(*it)[1]] = stop && *stop == 0 ? d : std::numeric_limits<Real>::quiet_NaN();
+      }
+    }
     pos = close;
   }
   return names;
@@ -207,12 +220,20 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
     std::ifstream in(path);
     std::stringstream ss;
     ss << in.rdbuf();
-    auto declared = declared_constants(ss.str());
+    std::map<std::string, Real> defaults;
+    auto declared = declared_constants(ss.str(), &defaults);
     for (auto& [name, value] : options.parameters) {
       if (std::find(declared.begin(), declared.end(), name) == declared.end())
         throw InputError(where, "mesh.parameters." + name,
                          "'" + path + "' does not declare '" + name +
                              "' with DefineConstant[...], so it cannot be set from the deck");
+      // A parameter whose default is positive is a size, a length or a count: zero or a
+      // negative value would make Gmsh mesh for a long time or fail late.
+      if (auto d = defaults.find(name); d != defaults.end() && d->second > 0 && !(value > 0))
+        throw InputError(where, "mesh.parameters." + name,
+                         fmt::format("got {}: '{}' declares '{}' with the positive default {} (a size, length or "
+                                     "count), so it must stay positive",
+                                     value, path, name, d->second));
       std::ostringstream v;
       v.precision(17);
       v << value;
