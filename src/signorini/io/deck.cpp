@@ -2,8 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <set>

@@ -8,16 +8,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <fcntl.h>
-#include <cctype>
 #include <filesystem>
-#include <set>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -202,11 +202,16 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   const std::string ext = fs::path(path).extension().string();
   if (ext != ".msh" && ext != ".geo")
     throw InputError(where, "mesh.file", "mesh file '" + path + "' must end in .msh or .geo");
-  if (ext == ".geo" && !options.trusted) {
+  // A .geo's text, read once for the side-effect scan and the parameters' declarations.
+  std::string geo_text;
+  if (ext == ".geo") {
     std::ifstream in(path);
     std::stringstream ss;
     ss << in.rdbuf();
-    if (const std::string bad = geo_side_effect(ss.str()); !bad.empty())
+    geo_text = ss.str();
+  }
+  if (ext == ".geo" && !options.trusted) {
+    if (const std::string bad = geo_side_effect(geo_text); !bad.empty())
       throw InputError(where, "mesh.file",
                        "'" + path + "' " + bad +
                            ": a .geo is a program, and Signorini does not run its side effects (SystemCall, Exit, "
@@ -217,11 +222,8 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   if (!options.parameters.empty()) {
     if (ext != ".geo")
       throw InputError(where, "mesh.parameters", "parameters apply to .geo files only, not '" + path + "'");
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
     std::map<std::string, Real> defaults;
-    auto declared = declared_constants(ss.str(), &defaults);
+    auto declared = declared_constants(geo_text, &defaults);
     for (auto& [name, value] : options.parameters) {
       if (std::find(declared.begin(), declared.end(), name) == declared.end())
         throw InputError(where, "mesh.parameters." + name,

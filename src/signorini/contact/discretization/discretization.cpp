@@ -223,10 +223,7 @@ class DeformableMaster : public Discretization {
     c.normal_jacobian.setZero(dim, c.grad.size());
     for (size_t a = 0; a < nn.size(); ++a) {
       const Index k = std::find(c.nodes.begin(), c.nodes.end(), nn[a]) - c.nodes.begin();
-      if (k == static_cast<Index>(c.nodes.size())) {
-        if (c.master_weights.size() + 1 == c.nodes.size()) c.master_weights.push_back(0);
-        append_node(c, nn[a], dim);
-      }
+      if (k == static_cast<Index>(c.nodes.size())) append_node(c, nn[a], dim);
       c.normal_jacobian.middleCols(k * dim, dim) = -dn.middleCols(static_cast<Index>(a) * dim, dim);
     }
   }
@@ -437,9 +434,6 @@ class SegmentToSegment final : public DeformableMaster {
       c.gap /= c.weight;
       c.grad /= c.weight;
       c.hess /= c.weight;
-      c.slave_coefficient = relative[j](0) / c.weight;
-      c.master_weights.resize(c.nodes.size() - 1);
-      for (size_t k = 1; k < c.nodes.size(); ++k) c.master_weights[k - 1] = -relative[j](static_cast<Index>(k)) / c.weight;
       // The slave's averaged normal, turned to point from the master to the slave, with its
       // variation in 2D (mortar's nodal normal); in 3D its variation is not built yet
       // (frictionless only, where enforcement does not read it).
@@ -449,6 +443,10 @@ class SegmentToSegment final : public DeformableMaster {
         c.normal = -slave_facets_.node_normal(c.slave, x, dim_);
         c.normal_jacobian.setZero(dim_, c.grad.size());
       }
+      // The slip origin (after the normal, which may append nodes the slip does not involve).
+      c.slave_coefficient = relative[j](0) / c.weight;
+      c.master_weights.assign(c.nodes.size() - 1, 0.0);
+      for (Index k = 1; k < relative[j].size(); ++k) c.master_weights[k - 1] = -relative[j](k) / c.weight;
     }
   }
 

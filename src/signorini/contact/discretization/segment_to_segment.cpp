@@ -42,7 +42,6 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
   const QuadratureRule rule = quadrature_rule(type, 2 * info.order + 3);
   MatX M = MatX::Zero(n, n);
   VecX D = VecX::Zero(n);
-  std::vector<VecX> Nt;
   for (const QuadraturePoint& q : rule) {
     VecX N, Ntq;
     MatX dN;
@@ -60,12 +59,12 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
     M += Ntq * Ntq.transpose() * da;
     D += Ntq * da;
     f.N.push_back(N);
-    Nt.push_back(Ntq);
+    f.Nt.push_back(Ntq);
     f.weight.push_back(da);
   }
   // Dual basis Phi = A N~, A = D M^-1 (biorthogonal: int Phi_j N~_k = delta_jk D_j).
   const MatX A = D.asDiagonal() * M.inverse();
-  for (const VecX& ntq : Nt) f.phi.push_back(A * ntq);
+  for (const VecX& ntq : f.Nt) f.phi.push_back(A * ntq);
   f.area = D;
   return f;
 }
@@ -172,10 +171,8 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
       for (int b = 0; b < nm; ++b)
         Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((a + 1) * dim, (b + 1) * dim, dim, dim);
     master.basis(h.facet).eval(h.fp.xi, Nm, dNm);
-    VecX Ntq;
-    modified_shape_functions(f.type, N, Ntq);
     for (int j = 0; j < ns; ++j) {
-      const Real wr = Ntq(j) * f.weight[q];
+      const Real wr = f.Nt[q](j) * f.weight[q];
       const Real w = f.phi[q](j) * f.weight[q];
       out.gap[j] += w * h.fp.gap;
       out.grad[j] += w * gq;

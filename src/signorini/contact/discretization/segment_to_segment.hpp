@@ -25,6 +25,7 @@ struct IntegrationFacet {
   std::vector<Index> nodes;
   std::vector<VecX> N;      // per point: the facet's shape functions (geometry)
   std::vector<VecX> phi;    // per point: the dual shape functions
+  std::vector<VecX> Nt;     // per point: the modified basis N~ (friction's averaging weights)
   std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)
   VecX area;                // per node: int N~_j dA0 (positive)
 };
