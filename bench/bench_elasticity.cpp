@@ -12,6 +12,9 @@
 #include "signorini/fem/surface_load.hpp"
 #include "signorini/mesh/structured.hpp"
 #include "signorini/solver/linear_solver.hpp"
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 
 using namespace signorini;
 
@@ -73,20 +76,35 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   if (!no_solve) {
     log::Timer t_solve;
-    AutoLinearSolver ls(solver, true);
+    AutoLinearSolver ls(LinearSolverSettings(solver), true);
+    if (ls.wants_layout()) {  // algebraic multigrid: the rigid-body modes from the nodes
+      auto layout = std::make_shared<UnknownLayout>();
+      layout->dim = 3;
+      layout->x.resize(dofs.num_dofs());
+      layout->comp.resize(dofs.num_dofs());
+      for (Index nd = 0; nd < mesh.num_nodes(); ++nd)
+        for (int c = 0; c < 3 && dofs.has_dofs(nd); ++c) {
+          layout->x[dofs.dof(nd, c)] = mesh.nodes[nd];
+          layout->comp[dofs.dof(nd, c)] = static_cast<signed char>(c);
+        }
+      ls.set_layout(layout);
+    }
     VecX du;
     ls.solve(sys.matrix(), true, fext, du);
     const double solve_s = t_solve.seconds();
     // Check: relative residual of the linear system, and the mean top displacement against
     // the uniaxial-strain estimate sigma H / E_oedometric (a sanity bound, not a reference).
     const double rel = (sys.matrix() * du - fext).norm() / fext.norm();
-    std::printf("  solve     %8.3f s  (%.3g DOFs/s, %s, relative residual %.1e)\n", solve_s, ndof / solve_s,
-                ls.last_used().c_str(), rel);
+    std::printf("  solve     %8.3f s  (%.3g DOFs/s, %s, %d Krylov iterations, relative residual %.1e)\n", solve_s,
+                ndof / solve_s, ls.last_used().c_str(), ls.last_iterations(), rel);
     if (!(rel < 1e-6)) {
       std::printf("error: the solve is inaccurate\n");
       return 1;
     }
   }
   std::printf("  peak memory %.0f MiB\n", log::peak_memory_mib());
+#ifdef SIGNORINI_HAVE_PETSC
+  finalize_petsc();
+#endif
   return 0;
 }

@@ -8,6 +8,7 @@ PKGS=(
   libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3-numpy python3-matplotlib
+  petsc-dev libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -47,15 +47,23 @@ inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) 
   return out;
 }
 
-// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}"; `order` > 0
-// raises the mesh to that order.
-inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "", int order = 0) {
+// A shipped example's deck (examples/<example>/<example>.yaml) with its mesh path made
+// absolute, since the temporary deck lives elsewhere.
+inline std::string example_deck_text(const std::string& example) {
   namespace fs = std::filesystem;
   const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
   std::ifstream in(src);
   std::stringstream ss;
   ss << in.rdbuf();
   std::string deck = ss.str();
+  deck.insert(deck.find("file: ") + 6, (src.parent_path() / "").string());
+  return deck;
+}
+
+// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}"; `order` > 0
+// raises the mesh to that order.
+inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "", int order = 0) {
+  std::string deck = example_deck_text(example);
   const size_t p = deck.find("hc: ");
   const size_t e = deck.find_first_of(",}", p);
   deck.replace(p, e - p, "hc: " + std::to_string(hc));
@@ -64,9 +72,6 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
     const size_t q = deck.find("enforcement: {method: lagrange}");
     if (q != std::string::npos) deck.replace(q, std::string("enforcement: {method: lagrange}").size(), enforcement);
   }
-  // The temporary deck lives elsewhere: make the mesh path absolute.
-  const size_t f = deck.find("file: ") + 6;
-  deck.insert(f, (src.parent_path() / "").string());
   return run_deck_text(deck, example);
 }
 

@@ -188,6 +188,7 @@ TEST(Analysis, HugeLoadIsNotTakenForMissingSupports) {
 TEST(Analysis, EveryLinearSolverGivesTheSameAnswer) {
   VecX reference;
   for (const std::string& solver : linear_solver_names()) {
+    if (is_petsc_solver(solver) && !petsc_available()) continue;  // a build without PETSc
     Model m = block(Dimension::plane_strain);
     m.linear_solver = solver;
     Step s;
@@ -201,7 +202,9 @@ TEST(Analysis, EveryLinearSolverGivesTheSameAnswer) {
       EXPECT_EQ(sum.increments[0].linear_solver, solver);
     }
     if (reference.size() == 0) reference = a.displacement();
-    EXPECT_LT((a.displacement() - reference).norm(), 1e-10 * reference.norm()) << solver;
+    // Krylov solvers stop at rtol 1e-8 on the residual (then Newton's own 1e-8 test).
+    const bool krylov = solver == "gamg" || solver == "hypre" || solver == "petsc";
+    EXPECT_LT((a.displacement() - reference).norm(), (krylov ? 1e-6 : 1e-10) * reference.norm()) << solver;
   }
 }
 

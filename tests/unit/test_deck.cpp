@@ -405,3 +405,27 @@ TEST(Deck, J2PlasticityHardeningErrors) {
   m = error_of("j2_negative_H", replace(good, "H: 1e9", "H: -1e9"));
   EXPECT_MESSAGE(m, "j2_negative_H.yaml:5", "hardening.kinematic.H", ">= 0");
 }
+
+// solver.linear: a bare name, or {type, rtol, options}; every key checked, with the place.
+TEST(Deck, LinearSolverSettings) {
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("linear_name", kGood + "solver: {linear: umfpack}\n"), r);
+  EXPECT_EQ(m.linear_solver.type, "umfpack");
+  m = read_deck(write_deck("linear_default", kGood), r);
+  EXPECT_EQ(m.linear_solver.type, "auto");
+  const std::string full = kGood + "solver:\n  linear: {type: gamg, rtol: 1e-9, options: \"-pc_gamg_threshold 0.02\"}\n";
+  if (petsc_available()) {
+    m = read_deck(write_deck("linear_map", full), r);
+    EXPECT_EQ(m.linear_solver.type, "gamg");
+    EXPECT_EQ(m.linear_solver.rtol, 1e-9);
+    EXPECT_EQ(m.linear_solver.options, "-pc_gamg_threshold 0.02");
+  } else {  // a build without PETSc says so at the key
+    EXPECT_MESSAGE(error_of("linear_no_petsc", full), "linear_no_petsc.yaml:16", "solver.linear", "needs PETSc");
+  }
+  EXPECT_MESSAGE(error_of("linear_bad", kGood + "solver: {linear: superlu}\n"), "linear_bad.yaml:15",
+                 "solver.linear", "'superlu'", "gamg");
+  EXPECT_MESSAGE(error_of("linear_key", kGood + "solver: {linear: {type: mumps, tolerance: 1}}\n"),
+                 "linear_key.yaml:15", "solver.linear.tolerance", "allowed: type, rtol, options");
+  EXPECT_MESSAGE(error_of("linear_rtol", kGood + "solver: {linear: {type: umfpack, rtol: 2}}\n"),
+                 "linear_rtol.yaml:15", "solver.linear.rtol");
+}

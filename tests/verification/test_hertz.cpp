@@ -202,13 +202,7 @@ TEST(Hertz, CondensedMultipliersGiveTheSameNewtonSteps) {
   // solve (CHOLMOD on the displacement system); false solves the whole multiplier system
   // (UMFPACK). The Newton steps are the same, so the iterations and the answers agree.
   for (const char* example : {"hertz_cylinder", "hertz_sphere_3d"}) {
-    namespace fs = std::filesystem;
-    const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (std::string(example) + ".yaml");
-    std::ifstream in(src);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string deck = ss.str();
-    deck.insert(deck.find("file: ") + 6, (src.parent_path() / "").string());
+    const std::string deck = test::example_deck_text(example);
     test::HertzRun a = test::run_deck_text(deck, "condensed");
     test::HertzRun b = test::run_deck_text(deck + "solver: {condense_contact: false}\n", "whole");
     ASSERT_TRUE(a.summary.completed && b.summary.completed) << example;

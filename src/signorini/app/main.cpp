@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <iostream>
 
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 #include "signorini/app/bench_search.hpp"
 #include "signorini/contact/compatibility.hpp"
 #include "signorini/core/error.hpp"
@@ -44,7 +47,7 @@ void print_model(const Model& m, const DeckReport& rep) {
   for (auto& s : m.steps)
     fmt::print("  step       {}: {} Dirichlet conditions, {} loads, increments {:g} [{:g}, {:g}]\n", s.name,
                s.dirichlet.size(), s.loads.size(), s.initial_increment, s.min_increment, s.max_increment);
-  fmt::print("  solver     linear {}, Newton up to {} iterations, relative tolerance {:g}\n", m.linear_solver,
+  fmt::print("  solver     linear {}, Newton up to {} iterations, relative tolerance {:g}\n", m.linear_solver.type,
              m.newton.max_iterations, m.newton.residual_tolerance);
 }
 
@@ -138,6 +141,12 @@ int main(int argc, char** argv) {
   if (threads > 0) omp_set_num_threads(threads);
   if (quiet) log::set_level(log::Level::warning);
   if (verbose) log::set_level(log::Level::debug);
+#ifdef SIGNORINI_HAVE_PETSC
+  // PETSc (and MPI) start on the first PETSc solver's use and end here, after the run's objects.
+  struct PetscGuard {
+    ~PetscGuard() { finalize_petsc(); }
+  } petsc_guard;
+#endif
   try {
     if (bench_search_cmd->parsed()) return bench_search(bso);
     if (describe_cmd->parsed()) {

@@ -32,4 +32,11 @@ class SolverError : public Error {
   using Error::Error;
 };
 
+// A failure no cutback can cure (a singular model, a solver unfit for the system): the
+// analysis stops at once.
+class FatalModelError : public SolverError {
+ public:
+  using SolverError::SolverError;
+};
+
 }  // namespace signorini

@@ -10,6 +10,7 @@
 #include "signorini/fem/analysis_settings.hpp"
 #include "signorini/fem/body.hpp"
 #include "signorini/mesh/mesh.hpp"
+#include "signorini/solver/linear_solver.hpp"
 
 namespace signorini {
 
@@ -102,7 +103,7 @@ struct Model {
   std::vector<Step> steps;
   std::vector<ContactPairSettings> contacts;
   NewtonSettings newton;
-  std::string linear_solver = "auto";
+  LinearSolverSettings linear_solver;
   OutputSettings output;
   std::vector<Check> checks;
 };

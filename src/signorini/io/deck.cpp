@@ -631,7 +631,24 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
 void read_solver(const Node& n, const Registry& r, Model& m) {
   const TypeSpec& spec = deck_spec(r, "solver");
   n.check_keys(spec);
-  m.linear_solver = n.text(spec, "linear");
+  if (n.has("linear") && n.child("linear").node.IsMap()) {
+    const TypeSpec& ls = deck_spec(r, "linear");
+    const Node l = n.child("linear");
+    l.check_keys(ls);
+    m.linear_solver.type = l.text(ls, "type");
+    m.linear_solver.rtol = l.number(ls, "rtol");
+    m.linear_solver.options = l.text(ls, "options");
+  } else if (n.has("linear")) {
+    const Node c = n.child("linear");
+    const ParamSpec* p = deck_spec(r, "linear").param("type");
+    m.linear_solver.type = c.as_string();
+    if (std::find(p->choices.begin(), p->choices.end(), m.linear_solver.type) == p->choices.end())
+      c.fail("got '" + m.linear_solver.type + "', expected " + p->range_text());
+  }
+  if (is_petsc_solver(m.linear_solver.type) && !petsc_available())
+    n.child("linear").fail("linear solver '" + m.linear_solver.type +
+                           "' needs PETSc, and this build has none (install petsc-dev, e.g. with "
+                           "scripts/install-deps.sh, and reconfigure)");
   auto& ns = m.newton;
   ns.max_iterations = static_cast<int>(n.number(spec, "max_iterations"));
   ns.residual_tolerance = n.number(spec, "residual_tolerance");
@@ -729,7 +746,18 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   if (steps.node.size() == 0) steps.fail("at least one step is needed");
   if (top.has("contact")) read_contacts(top.child("contact"), registry, m);
   for (size_t i = 0; i < steps.node.size(); ++i) read_step(steps.at(i), i, registry, m);
-  if (top.has("solver")) read_solver(top.child("solver"), registry, m);
+  if (top.has("solver")) {
+    read_solver(top.child("solver"), registry, m);
+    // Algebraic multigrid cannot take the multipliers' saddle point: they must be condensed.
+    const std::string& t = m.linear_solver.type;
+    const bool amg = t == "gamg" || t == "hypre";
+    const bool multipliers = std::any_of(m.contacts.begin(), m.contacts.end(),
+                                         [](const ContactPairSettings& c) { return c.method == "lagrange"; });
+    if (amg && multipliers && !m.newton.condense_contact)
+      top.child("solver").child("condense_contact").fail(
+          "linear solver " + t + " needs the contact multipliers condensed (condense_contact: true, the default): "
+          "algebraic multigrid cannot take their saddle point; or use enforcement: penalty, or linear: mumps");
+  }
   if (top.has("output")) {
     const TypeSpec& os = deck_spec(registry, "output");
     Node o = top.child("output");

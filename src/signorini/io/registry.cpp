@@ -180,6 +180,19 @@ void register_linear_solvers(Registry& r) {
          "Eigen conjugate gradients with incomplete Cholesky preconditioning, relative tolerance 1e-10 (symmetric "
          "positive definite; far less memory than a direct factor on large 3D problems).",
          {}});
+  const std::string petsc = petsc_available() ? "" : " Not in this build (configured without PETSc).";
+  r.add({"linear_solver", "gamg",
+         "PETSc: conjugate gradients (GMRES when unsymmetric) with smoothed-aggregation algebraic multigrid, the "
+         "rigid-body modes as near-nullspace, interpolation reused while the pattern holds. Contact multipliers are "
+         "condensed first (or use penalty)." + petsc,
+         {}});
+  r.add({"linear_solver", "hypre",
+         "PETSc: conjugate gradients (GMRES when unsymmetric) with hypre's BoomerAMG. Contact multipliers are "
+         "condensed first (or use penalty)." + petsc,
+         {}});
+  r.add({"linear_solver", "mumps", "PETSc: MUMPS direct LU, or LDL^T when symmetric (any nonsingular system)." + petsc,
+         {}});
+  r.add({"linear_solver", "petsc", "PETSc's defaults (GMRES, ILU(0)), set by the raw options." + petsc, {}});
 }
 
 void register_deck_sections(Registry& r) {
@@ -322,8 +335,14 @@ void register_deck_sections(Registry& r) {
                                "motion of the increment's prediction", "auto", ParamKind::any),
           choice("update", "detection at the start of each increment, or at each Newton iteration",
                  {"increment", "iteration"}, "increment")}});
+  r.add({"deck", "linear", "The linear solver of the Newton iterations: {type, rtol, options}, or just its type.",
+         {choice("type", "the solver (see 'describe auto', 'describe gamg' etc.)", solvers, "auto"),
+          number("rtol", "gamg, hypre, petsc: relative residual of the Krylov iterations", "1e-8", 0, 1, true, true),
+          text("options", "gamg, hypre, mumps, petsc: raw PETSc options, e.g. \"-ksp_monitor -pc_gamg_threshold 0.02\"",
+               "\"\"")}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
-         {choice("linear", "linear solver (see 'describe cholmod' etc.)", solvers, "auto"),
+         {text("linear", "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, options} (see 'describe "
+                         "linear')", "auto", ParamKind::any),
           number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
           number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),
           number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),

@@ -389,6 +389,8 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                    json_number(s.assembly_seconds), json_number(s.contact_seconds), json_number(s.solve_seconds),
                    json_number(log::elapsed()));
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
+  j += fmt::format("  \"mpi_ranks\": 1,\n  \"linear\": {{\"type\": \"{}\", \"rtol\": {}, \"options\": \"{}\"}},\n",
+                   m.linear_solver.type, json_number(m.linear_solver.rtol), json_escape(m.linear_solver.options));
   j += "  \"increments\": [";
   for (size_t i = 0; i < s.increments.size(); ++i) {
     const auto& r = s.increments[i];
@@ -400,6 +402,11 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                      r.uzawa_updates, json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
     j += "]";
+    if (std::any_of(r.krylov_iterations.begin(), r.krylov_iterations.end(), [](int k) { return k > 0; })) {
+      j += ", \"krylov_iterations\": [";
+      for (size_t k = 0; k < r.krylov_iterations.size(); ++k) j += (k ? ", " : "") + std::to_string(r.krylov_iterations[k]);
+      j += "]";
+    }
     if (r.stabilization_ratio > 0) j += fmt::format(", \"stabilization_ratio\": {}", json_number(r.stabilization_ratio));
     if (!r.contact.empty()) {
       j += ", \"contact\": [";

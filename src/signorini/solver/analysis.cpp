@@ -166,6 +166,22 @@ void Analysis::rebuild_pattern() {
   if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
   backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
+  if (backend_->wants_layout()) {
+    // Where each unknown sits (algebraic multigrid's rigid-body modes).
+    auto layout = std::make_shared<UnknownLayout>();
+    const int dim = dofs_.dofs_per_node();
+    layout->dim = dim;
+    layout->axisymmetric = model_.settings.dimension == Dimension::axisymmetric;
+    layout->x.assign(static_cast<size_t>(num_unknowns()), Vec3::Zero());
+    layout->comp.assign(static_cast<size_t>(num_unknowns()), -1);
+    for (Index node = dofs_.num_nodes() - 1; node >= 0; --node)  // a shared DOF takes its group's first node
+      for (int c = 0; c < dim && dofs_.has_dofs(node); ++c) {
+        const Index d = dofs_.dof(node, c);
+        layout->x[d] = model_.mesh.nodes[node];
+        layout->comp[d] = static_cast<signed char>(c);
+      }
+    backend_->set_layout(layout);
+  }
   log::debug("sparse pattern rebuilt: {} unknowns, {} nonzeros", num_unknowns(), backend_->nonzeros());
 }
 
@@ -270,6 +286,7 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       lift_force = klift.norm();
     }
     backend_->apply_dirichlet(constrained_, diag);
+    dirichlet_diagonal_ = diag;
   }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
@@ -464,6 +481,12 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
     q.is_multiplier = has_multipliers_ ? &is_multiplier_ : nullptr;
     q.condense_contact = ns.condense_contact;
     rec.linear_solver = backend_->solve(q, R, du);
+    rec.krylov_iterations.push_back(backend_->last_iterations());
+    // A prescribed DOF's row is diag du = diag lift: its step is known exactly, and an
+    // iterative solve's round-off there would leave the prescribed value forever "pending".
+    if (dirichlet_diagonal_ > 0)
+      for (Index i = 0; i < static_cast<Index>(constrained_.size()); ++i)
+        if (constrained_[i]) du(i) = R(i) / dirichlet_diagonal_;
   } catch (const SolverError& e) {
     // Singular at the very first solve, from the undeformed state: cutting back cannot
     // help, the model is missing supports.
@@ -628,8 +651,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       rec.residuals.push_back(rel);
       rec.energies.push_back(energy);
       rec.iterations = it;
-      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}", it, rel, energy,
-                alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string());
+      const int krylov = rec.krylov_iterations.empty() ? 0 : rec.krylov_iterations.back();
+      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}{}", it, rel, energy,
+                alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string(),
+                krylov > 0 ? fmt::format("  [{} Krylov iterations]", krylov) : std::string());
       if (!std::isfinite(st.rnorm)) {
         why = "residual is not finite";
         return false;

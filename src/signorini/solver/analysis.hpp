@@ -19,12 +19,6 @@
 
 namespace signorini {
 
-// A failure no cutback can cure (a singular model): the analysis stops at once.
-class FatalModelError : public SolverError {
- public:
-  using SolverError::SolverError;
-};
-
 // SIGINT/SIGTERM received (core/interrupt.hpp): the run stops at the last converged increment.
 class Interrupted : public std::exception {
  public:
@@ -45,6 +39,7 @@ struct IncrementRecord {
   std::vector<Real> energies;   // |du . R| per iteration
   double seconds = 0;
   std::string linear_solver;
+  std::vector<int> krylov_iterations;  // per Newton iteration (iterative linear solvers)
   std::vector<ContactStats> contact;  // per contact interface
   int uzawa_updates = 0;              // augmented Lagrangian multiplier updates
   // Stabilization (solver.stabilization): |f_v| at convergence, relative to the largest of
@@ -166,7 +161,8 @@ class Analysis {
   Real last_dl_ = 0;      // its size (0: no predictor available)
   std::vector<char> constrained_;
   std::vector<Prescribed> prescribed_;
-  bool lift_pending_ = false;  // the last evaluate found prescribed DOFs short of their values
+  bool lift_pending_ = false;
+  Real dirichlet_diagonal_ = 0;  // the diagonal of the prescribed DOFs' rows in the last tangent  // the last evaluate found prescribed DOFs short of their values
   std::vector<Load> previous_loads_;
   const std::vector<Load>* current_loads_ = nullptr;
   std::vector<FacetLoad> facet_loads_cache_;

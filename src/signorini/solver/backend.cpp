@@ -1,5 +1,6 @@
 #include "signorini/solver/backend.hpp"
 
+#include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/solver/condensed_solve.hpp"
 #include "signorini/solver/linear_solver.hpp"
@@ -10,8 +11,10 @@ namespace {
 
 class SerialBackend final : public AlgebraBackend {
  public:
-  SerialBackend(std::string linear, bool three_d)
-      : linear_name_(std::move(linear)), linear_(linear_name_, three_d), condensed_(three_d) {}
+  SerialBackend(const LinearSolverSettings& linear, bool three_d)
+      : linear_name_(linear.type),
+        linear_(linear, three_d),
+        condensed_(amg(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
   std::string name() const override { return "serial"; }
   Index owned_begin() const override { return 0; }
   Index owned_end() const override { return rows(); }
@@ -30,23 +33,45 @@ class SerialBackend final : public AlgebraBackend {
   void apply_dirichlet(const std::vector<char>& constrained, Real scale) override {
     system_.apply_dirichlet(constrained, scale);
   }
+  bool wants_layout() const override { return linear_.wants_layout(); }
+  void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
+    linear_.set_layout(layout);
+    condensed_.set_layout(layout);
+  }
+  int last_iterations() const override { return last_iterations_; }
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
-    // Multiplier contact with the automatic solver: the condensed system when its structure
-    // allows (condensed_solve.hpp); a solver chosen in the deck gets the whole system.
-    if (q.is_multiplier && q.condense_contact && linear_name_ == "auto") {
-      if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du))
+    // Multiplier contact with the automatic solver or algebraic multigrid (which cannot take
+    // a saddle-point system): the condensed system when its structure allows
+    // (condensed_solve.hpp); another solver chosen in the deck gets the whole system.
+    last_iterations_ = 0;
+    if (q.is_multiplier && !q.condense_contact && amg(linear_name_))
+      throw FatalModelError("linear solver " + linear_name_ + " with condense_contact: false: algebraic multigrid "
+                            "cannot take the contact multipliers' saddle point (condense them, or use enforcement: "
+                            "penalty, or linear: mumps or umfpack)");
+    if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || amg(linear_name_))) {
+      if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
+        last_iterations_ = condensed_.last_iterations();
         return "condensed+" + condensed_.last_used();
+      }
+      if (amg(linear_name_))
+        throw FatalModelError("linear solver " + linear_name_ + " cannot solve this contact system: " +
+                          condensed_.why_not() +
+                          ", and algebraic multigrid cannot take the contact multipliers' saddle point (use "
+                          "enforcement: penalty, or linear: mumps or umfpack)");
       if (!condense_reported_) {
         log::info("    contact multipliers kept in the linear system (UMFPACK): {}", condensed_.why_not());
         condense_reported_ = true;
       }
     }
     linear_.solve(system_.matrix(), q.symmetric, r, du);
+    last_iterations_ = linear_.last_iterations();
     return linear_.last_used();
   }
 
  private:
+  static bool amg(const std::string& name) { return name == "gamg" || name == "hypre"; }
   std::string linear_name_;
+  int last_iterations_ = 0;
   SparseSystem system_;
   AutoLinearSolver linear_;
   CondensedContactSolver condensed_;
@@ -55,7 +80,7 @@ class SerialBackend final : public AlgebraBackend {
 
 }  // namespace
 
-std::unique_ptr<AlgebraBackend> make_serial_backend(const std::string& linear, bool three_d) {
+std::unique_ptr<AlgebraBackend> make_serial_backend(const LinearSolverSettings& linear, bool three_d) {
   return std::make_unique<SerialBackend>(linear, three_d);
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "signorini/fem/global_system.hpp"
+#include "signorini/solver/linear_solver.hpp"
 
 namespace signorini {
 
@@ -47,10 +48,15 @@ class AlgebraBackend {
   // Solves K du = r; returns the solver used (for the log and summary.json). Throws
   // SolverError when no solver succeeds.
   virtual std::string solve(const NewtonSolveRequest& request, const VecX& r, VecX& du) = 0;
+  // Krylov iterations of the last solve (0 for a direct solver).
+  virtual int last_iterations() const { return 0; }
+  // Algebraic multigrid wants to know where the unknowns sit (its near-nullspace).
+  virtual bool wants_layout() const { return false; }
+  virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
 };
 
 // The serial backend: SparseSystem storage, the automatic linear solver (CHOLMOD, UMFPACK,
 // CG), the condensed solve of contact multipliers. `linear`: the deck's solver.linear.
-std::unique_ptr<AlgebraBackend> make_serial_backend(const std::string& linear, bool three_d);
+std::unique_ptr<AlgebraBackend> make_serial_backend(const LinearSolverSettings& linear, bool three_d);
 
 }  // namespace signorini

@@ -78,15 +78,17 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
         why_not_ = "an eliminated DOF's row holds two closed multipliers";
         return false;
       }
-  // Reduced numbering and T.
+  // Reduced numbering and T. Algebraic multigrid keeps the pivots' places (their columns of
+  // T empty, a decoupled diagonal added below), so that the unknowns stay in node blocks.
+  const bool keep_places = solver_.wants_layout();
   std::vector<Index> ridx(n, -1);
   Index nr = 0;
   for (Index k = 0; k < n; ++k)
-    if (!is_multiplier[k] && pivot_of[k] < 0) ridx[k] = nr++;
+    if (!is_multiplier[k] && (keep_places || pivot_of[k] < 0)) ridx[k] = nr++;
   std::vector<Eigen::Triplet<Real, int>> trip;
   trip.reserve(static_cast<size_t>(nr) + 16 * closed.size());
   for (Index k = 0; k < n; ++k)
-    if (ridx[k] >= 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
+    if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
   for (size_t c = 0; c < closed.size(); ++c) {
     const Index m = closed[c], p = pivot[c];
     const Real ap = Jt.coeff(p, m);
@@ -101,6 +103,17 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   T.setFromTriplets(trip.begin(), trip.end());
   const SparseMatrix JT = J * T;
   SparseMatrix Kr = SparseMatrix(T.transpose()) * JT;
+  if (keep_places && !closed.empty()) {
+    // The pivots' rows and columns of Kr are empty: a diagonal of the mean magnitude there.
+    Real mean = 0;
+    for (Index k = 0; k < Kr.outerSize(); ++k) mean += std::abs(Kr.coeff(k, k));
+    mean = nr ? mean / static_cast<Real>(nr) : 1.0;
+    SparseMatrix D(nr, nr);
+    std::vector<Eigen::Triplet<Real, int>> dt;
+    for (Index p : pivot) dt.emplace_back(static_cast<int>(ridx[p]), static_cast<int>(ridx[p]), mean > 0 ? mean : 1.0);
+    D.setFromTriplets(dt.begin(), dt.end());
+    Kr += D;
+  }
   Kr.makeCompressed();
   const VecX rr = T.transpose() * (r - J * z0);
   VecX ur;
@@ -118,6 +131,17 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     pattern_outer_.assign(Kr.outerIndexPtr(), Kr.outerIndexPtr() + Kr.outerSize() + 1);
     pattern_inner_.assign(Kr.innerIndexPtr(), Kr.innerIndexPtr() + Kr.nonZeros());
     ++analyses_;
+    if (keep_places && layout_ && layout_->size() == n) {
+      auto reduced = std::make_shared<UnknownLayout>();
+      reduced->dim = layout_->dim;
+      reduced->axisymmetric = layout_->axisymmetric;
+      for (Index k = 0; k < n; ++k)
+        if (ridx[k] >= 0) {
+          reduced->x.push_back(layout_->x[k]);
+          reduced->comp.push_back(layout_->comp[k]);
+        }
+      solver_.set_layout(reduced);
+    }
   }
   solver_.solve(Kr, symmetric, rr, ur);
   dz = T * ur + z0;

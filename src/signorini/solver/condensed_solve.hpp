@@ -15,6 +15,14 @@ namespace signorini {
 class CondensedContactSolver {
  public:
   explicit CondensedContactSolver(bool three_d) : solver_("auto", three_d) {}
+  // With algebraic multigrid (gamg, hypre) the eliminated DOFs keep their place in the
+  // reduced system as decoupled rows (so that its unknowns stay node-interleaved blocks).
+  CondensedContactSolver(const LinearSolverSettings& linear, bool three_d) : solver_(linear, three_d) {}
+  void set_layout(std::shared_ptr<const UnknownLayout> layout) {
+    layout_ = std::move(layout);
+    pattern_rows_ = -1;
+  }
+  int last_iterations() const { return solver_.last_iterations(); }
   // J dz = r with `is_multiplier` flagging the multiplier unknowns; `symmetric`: whether J
   // is symmetric apart from its multiplier rows and columns. Returns false (dz untouched)
   // when the structure does not allow the elimination: a closed constraint with no DOF of
@@ -28,6 +36,7 @@ class CondensedContactSolver {
 
  private:
   AutoLinearSolver solver_;
+  std::shared_ptr<const UnknownLayout> layout_;
   std::string why_not_;
   // The reduced system's pattern at the last solve (its symbolic factorization is reused).
   Index pattern_rows_ = -1;

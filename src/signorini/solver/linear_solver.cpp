@@ -9,6 +9,9 @@
 #include <algorithm>
 
 #include "signorini/core/error.hpp"
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 
 namespace signorini {
 
@@ -75,11 +78,33 @@ class EigenCg final : public LinearSolver {
 }  // namespace
 
 const std::vector<std::string>& linear_solver_names() {
-  static const std::vector<std::string> n{"auto", "cholmod", "umfpack", "eigen_ldlt", "eigen_lu", "eigen_cg"};
+  static const std::vector<std::string> n{"auto",     "cholmod", "umfpack", "eigen_ldlt", "eigen_lu",
+                                          "eigen_cg", "gamg",    "hypre",   "mumps",      "petsc"};
   return n;
 }
 
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name) {
+bool petsc_available() {
+#ifdef SIGNORINI_HAVE_PETSC
+  return true;
+#else
+  return false;
+#endif
+}
+
+bool is_petsc_solver(const std::string& name) {
+  return name == "gamg" || name == "hypre" || name == "mumps" || name == "petsc";
+}
+
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings) {
+  const std::string& name = settings.type;
+  if (is_petsc_solver(name)) {
+#ifdef SIGNORINI_HAVE_PETSC
+    return make_petsc_solver(settings);
+#else
+    throw Error("linear solver '" + name + "' needs PETSc, and this build has none (configure with "
+                "-DSIGNORINI_WITH_PETSC=ON after installing petsc-dev; scripts/install-deps.sh does)");
+#endif
+  }
   if (name == "cholmod")
     return std::make_unique<EigenDirect<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>>(name);
   if (name == "umfpack") return std::make_unique<EigenDirect<Eigen::UmfPackLU<SparseMatrix>>>(name);
@@ -92,17 +117,23 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name) {
 }
 
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
-  std::string want = choice_;
+  std::string want = choice_.type;
   const bool spd_wanted = symmetric && spd_skip_ == 0;
   if (spd_skip_ > 0) --spd_skip_;
   if (want == "auto")
     want = !spd_wanted ? "umfpack" : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
-  if (!solver_ || solver_->name() != want) solver_ = make_linear_solver(want);
+  if (!solver_ || solver_->name() != want) {
+    LinearSolverSettings s = choice_;
+    s.type = want;
+    solver_ = make_linear_solver(s);
+    solver_->set_layout(layout_);
+  }
+  solver_->set_symmetric(symmetric);
   if (solver_->factorize(a) && solver_->solve(b, x)) {
     if (want != "umfpack") spd_backoff_ = 1;
     return;
   }
-  if (choice_ == "auto" && want != "umfpack") {
+  if (choice_.type == "auto" && want != "umfpack") {
     // Not positive definite (an instability, or contact's geometric term -p w hess g while the
     // penetration is large): LU instead, for the next 1, 2, 4, ... solves after each failure in
     // a row, rather than paying for a failed factorization at every iteration; Cholesky comes
@@ -113,6 +144,9 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     solver_ = make_linear_solver("umfpack");
     if (solver_->factorize(a) && solver_->solve(b, x)) return;
   }
+  if (is_petsc_solver(want))
+    throw SolverError("linear solver " + solver_->name() + " failed: " + solver_->failure() +
+                      " (a singular or indefinite system, or a preconditioner unfit for it: try mumps or umfpack)");
   throw SolverError("linear solver " + solver_->name() + " failed: the system is singular (missing supports or a "
                     "mechanism?) or not positive definite");
 }

@@ -3,7 +3,8 @@
 // an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (CG for
 // a symmetric 3D system above `iterative_threshold` DOFs, where a direct factor would not fit
 // in memory) and UMFPACK otherwise, and falls back to UMFPACK when Cholesky or CG fails (for
-// the next 1, 2, 4, ... solves, then Cholesky again).
+// the next 1, 2, 4, ... solves, then Cholesky again). With PETSc (SIGNORINI_WITH_PETSC),
+// `gamg`, `hypre`, `mumps` and `petsc` solve through a KSP (petsc_solver.hpp).
 #pragma once
 #include <memory>
 #include <string>
@@ -13,6 +14,28 @@
 
 namespace signorini {
 
+// The deck's solver.linear: a type and, for the iterative (PETSc) solvers, the relative
+// tolerance and raw PETSc options ("-ksp_monitor -pc_gamg_threshold 0.05").
+struct LinearSolverSettings {
+  std::string type = "auto";
+  Real rtol = 1e-8;
+  std::string options;
+  LinearSolverSettings() = default;
+  LinearSolverSettings(const char* t) : type(t) {}  // NOLINT: a bare name is a type
+  LinearSolverSettings(std::string t) : type(std::move(t)) {}  // NOLINT
+};
+
+// Where each unknown of a system sits, for algebraic multigrid's near-nullspace (the
+// rigid-body modes): the reference position of its node and its displacement component
+// (-1: not a displacement, e.g. a contact multiplier). `dim` is the spatial dimension.
+struct UnknownLayout {
+  int dim = 0;
+  bool axisymmetric = false;  // (r, z): the only rigid motion is the axial translation
+  std::vector<Vec3> x;
+  std::vector<signed char> comp;
+  Index size() const { return static_cast<Index>(comp.size()); }
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
@@ -20,20 +43,42 @@ class LinearSolver {
   // Factorizes; returns false if the factorization failed (not positive definite, singular).
   virtual bool factorize(const SparseMatrix& a) = 0;
   virtual bool solve(const VecX& b, VecX& x) = 0;
+  // Iterative solvers: whether the system is symmetric (CG) or not (GMRES), set before
+  // factorize; and the layout of the unknowns of the next systems (null: unknown).
+  virtual void set_symmetric(bool) {}
+  virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
+  // Krylov iterations of the last solve (0 for a direct solver).
+  virtual int iterations() const { return 0; }
+  // Why the last factorize or solve failed, when the solver knows.
+  virtual std::string failure() const { return "failed"; }
+  // Whether the solver wants the unknown layout (algebraic multigrid).
+  virtual bool wants_layout() const { return false; }
 };
 
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name);
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings);
+// Whether a solver name is an algebraic-multigrid or other PETSc solver.
+bool is_petsc_solver(const std::string& name);
+// Whether this build has PETSc (SIGNORINI_WITH_PETSC).
+bool petsc_available();
 const std::vector<std::string>& linear_solver_names();  // for the registry and the deck
 
 // Chooses per factorization: holds the selected solver and falls back as documented.
 class AutoLinearSolver {
  public:
-  explicit AutoLinearSolver(std::string choice, bool three_d = false)
+  explicit AutoLinearSolver(LinearSolverSettings choice, bool three_d = false)
       : choice_(std::move(choice)), three_d_(three_d) {}
   static constexpr Index iterative_threshold = 200000;
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
   std::string last_used() const { return solver_ ? solver_->name() : last_name_; }
+  int last_iterations() const { return solver_ ? solver_->iterations() : 0; }
+  // The layout of the next systems' unknowns (for algebraic multigrid).
+  void set_layout(std::shared_ptr<const UnknownLayout> layout) {
+    layout_ = std::move(layout);
+    if (solver_) solver_->set_layout(layout_);
+  }
+  bool wants_layout() const { return is_petsc_solver(choice_.type); }
+  const std::string& choice() const { return choice_.type; }
   // Forget the factorization and its symbolic analysis (after a change of sparse pattern).
   void reset() {
     if (solver_) last_name_ = solver_->name();
@@ -41,8 +86,9 @@ class AutoLinearSolver {
   }
 
  private:
-  std::string choice_;
+  LinearSolverSettings choice_;
   bool three_d_;
+  std::shared_ptr<const UnknownLayout> layout_;
   // After Cholesky or CG fails (the tangent is not positive definite), LU for the next spd_skip_
   // solves; the skip doubles with each failure in a row (spd_backoff_) and resets on success.
   int spd_skip_ = 0, spd_backoff_ = 1;

@@ -1,0 +1,293 @@
+#include "signorini/solver/petsc_solver.hpp"
+
+#include <petscksp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+namespace {
+
+static_assert(sizeof(PetscInt) == sizeof(int), "Eigen's int indices are passed to PETSc as they are");
+
+bool g_started_here = false;
+
+void ensure_petsc() {
+  PetscBool done = PETSC_FALSE;
+  PetscInitialized(&done);
+  if (done) return;
+  // Signorini handles SIGINT/SIGTERM itself (the run stops cleanly, results kept): PETSc's
+  // own signal handlers would abort instead. Unused options are the user's business.
+  PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+  PetscOptionsSetValue(nullptr, "-options_left", "0");
+  if (PetscInitializeNoArguments() != 0) throw Error("PETSc could not be initialized");
+  // Errors come back as codes (reported by us), without PETSc's traceback on stderr.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  g_started_here = true;
+}
+
+void check(PetscErrorCode code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw Error(fmt::format("PETSc: {} failed ({})", what, text ? text : "unknown error"));
+}
+
+class PetscKsp final : public LinearSolver {
+ public:
+  explicit PetscKsp(LinearSolverSettings s) : s_(std::move(s)) {
+    ensure_petsc();
+    if (!s_.options.empty()) check(PetscOptionsInsertString(nullptr, s_.options.c_str()), "reading the options");
+  }
+  ~PetscKsp() override {
+    if (ksp_) KSPDestroy(&ksp_);
+    if (A_) MatDestroy(&A_);
+    if (b_) VecDestroy(&b_);
+    if (x_) VecDestroy(&x_);
+  }
+  std::string name() const override { return s_.type; }
+  void set_symmetric(bool symmetric) override {
+    if (symmetric != symmetric_) configured_ = false;
+    symmetric_ = symmetric;
+  }
+  void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
+    layout_ = std::move(layout);
+    nullspace_stale_ = true;
+  }
+  bool wants_layout() const override { return s_.type == "gamg" || s_.type == "hypre"; }
+  int iterations() const override { return iterations_; }
+  std::string failure() const override { return failure_; }
+
+  bool factorize(const SparseMatrix& a) override {
+    try {
+      copy_matrix(a);
+      configure();
+      check(KSPSetUp(ksp_), "the preconditioner's setup");
+      PCFailedReason reason = PC_NOERROR;
+      PC pc = nullptr;
+      KSPGetPC(ksp_, &pc);
+      PCGetFailedReason(pc, &reason);
+      if (reason != PC_NOERROR) {
+        failure_ = fmt::format("the preconditioner's setup failed ({})", PCFailedReasons[reason]);
+        return false;
+      }
+      return true;
+    } catch (const Error& e) {
+      failure_ = e.what();
+      return false;
+    }
+  }
+
+  bool solve(const VecX& b, VecX& x) override {
+    try {
+      const PetscInt n = static_cast<PetscInt>(b.size());
+      PetscScalar* pb = nullptr;
+      check(VecGetArray(b_, &pb), "VecGetArray");
+      std::copy(b.data(), b.data() + n, pb);
+      std::fill(pb + n, pb + padded_, 0.0);
+      VecRestoreArray(b_, &pb);
+      check(KSPSolve(ksp_, b_, x_), "KSPSolve");
+      KSPConvergedReason reason;
+      KSPGetConvergedReason(ksp_, &reason);
+      PetscInt its = 0;
+      KSPGetIterationNumber(ksp_, &its);
+      iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);  // a direct solve: no Krylov iterations
+      if (reason < 0) {
+        failure_ = fmt::format("the Krylov solver did not converge ({} after {} iterations)",
+                               KSPConvergedReasons[reason], its);
+        return false;
+      }
+      const PetscScalar* px = nullptr;
+      check(VecGetArrayRead(x_, &px), "VecGetArrayRead");
+      x = Eigen::Map<const VecX>(px, n);
+      VecRestoreArrayRead(x_, &px);
+      return x.allFinite();
+    } catch (const Error& e) {
+      failure_ = e.what();
+      return false;
+    }
+  }
+
+ private:
+  // Block size dim when the layout says the unknowns are node-interleaved displacements
+  // followed only by other unknowns (padded with identity rows to a multiple of dim).
+  int block_size(Index n) const {
+    if (!layout_ || layout_->size() != n || layout_->dim < 2) return 1;
+    Index lead = 0;
+    while (lead < n && layout_->comp[lead] >= 0) {
+      if (layout_->comp[lead] != lead % layout_->dim) return 1;
+      ++lead;
+    }
+    if (lead == 0 || lead % layout_->dim) return 1;
+    for (Index i = lead; i < n; ++i)
+      if (layout_->comp[i] >= 0) return 1;
+    return layout_->dim;
+  }
+
+  void copy_matrix(const SparseMatrix& a) {
+    using RowMatrix = Eigen::SparseMatrix<Real, Eigen::RowMajor, int>;
+    RowMatrix r(a);  // CSR: the matrix may be unsymmetric
+    r.makeCompressed();
+    const Index n = r.rows();
+    const int bs = block_size(n);
+    const Index np = (n + bs - 1) / bs * bs;
+    const bool same = A_ && np == padded_ && bs == bs_ &&
+                      std::equal(r.outerIndexPtr(), r.outerIndexPtr() + n + 1, outer_.begin(), outer_.end()) &&
+                      std::equal(r.innerIndexPtr(), r.innerIndexPtr() + r.nonZeros(), inner_.begin(), inner_.end());
+    if (!same) {
+      if (A_) MatDestroy(&A_);
+      if (b_) VecDestroy(&b_);
+      if (x_) VecDestroy(&x_);
+      outer_.assign(r.outerIndexPtr(), r.outerIndexPtr() + n + 1);
+      inner_.assign(r.innerIndexPtr(), r.innerIndexPtr() + r.nonZeros());
+      padded_ = np;
+      bs_ = bs;
+      std::vector<PetscInt> nnz(static_cast<size_t>(np), 1);
+      for (Index i = 0; i < n; ++i) nnz[i] = std::max<PetscInt>(1, outer_[i + 1] - outer_[i]);
+      check(MatCreate(PETSC_COMM_SELF, &A_), "MatCreate");
+      check(MatSetSizes(A_, np, np, np, np), "MatSetSizes");
+      check(MatSetType(A_, MATSEQAIJ), "MatSetType");
+      check(MatSetBlockSize(A_, bs), "MatSetBlockSize");
+      check(MatSeqAIJSetPreallocation(A_, 0, nnz.data()), "preallocation");
+      check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+      configured_ = false;
+      nullspace_stale_ = true;
+    }
+    for (Index i = 0; i < n; ++i) {
+      const PetscInt row = static_cast<PetscInt>(i);
+      const int begin = r.outerIndexPtr()[i], count = r.outerIndexPtr()[i + 1] - begin;
+      check(MatSetValues(A_, 1, &row, count, r.innerIndexPtr() + begin, r.valuePtr() + begin, INSERT_VALUES),
+            "MatSetValues");
+    }
+    for (Index i = n; i < np; ++i) {
+      const PetscInt row = static_cast<PetscInt>(i);
+      const PetscScalar one = 1.0;
+      check(MatSetValues(A_, 1, &row, 1, &row, &one, INSERT_VALUES), "MatSetValues");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
+    if (symmetric_) MatSetOption(A_, MAT_SYMMETRY_ETERNAL, PETSC_TRUE);
+    if (nullspace_stale_ && s_.type == "gamg") set_near_nullspace(n);
+  }
+
+  // The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
+  // Gram-Schmidt): translations, and rotations about the centroid (one in 2D, three in 3D);
+  // axisymmetric: the axial translation only (a radial motion strains the hoops).
+  void set_near_nullspace(Index n) {
+    nullspace_stale_ = false;
+    if (!layout_ || layout_->size() != n) return;
+    const int dim = layout_->dim;
+    Vec3 c = Vec3::Zero();
+    Index count = 0;
+    for (Index i = 0; i < n; ++i)
+      if (layout_->comp[i] == 0) c += layout_->x[i], ++count;
+    if (count) c /= static_cast<Real>(count);
+    std::vector<VecX> modes;
+    auto translation = [&](int d) {
+      VecX v = VecX::Zero(padded_);
+      for (Index i = 0; i < n; ++i) v(i) = layout_->comp[i] == d ? 1.0 : 0.0;
+      return v;
+    };
+    auto rotation = [&](int p, int q) {  // rotation in the (p, q) plane: u_p = -x_q, u_q = x_p
+      VecX v = VecX::Zero(padded_);
+      for (Index i = 0; i < n; ++i) {
+        const Vec3 x = layout_->x[i] - c;
+        if (layout_->comp[i] == p) v(i) = -x(q);
+        else if (layout_->comp[i] == q) v(i) = x(p);
+      }
+      return v;
+    };
+    if (layout_->axisymmetric) {
+      modes.push_back(translation(1));
+    } else {
+      for (int d = 0; d < dim; ++d) modes.push_back(translation(d));
+      if (dim == 2) modes.push_back(rotation(0, 1));
+      if (dim == 3) {
+        modes.push_back(rotation(0, 1));
+        modes.push_back(rotation(1, 2));
+        modes.push_back(rotation(2, 0));
+      }
+    }
+    std::vector<VecX> basis;
+    for (VecX& v : modes) {
+      for (const VecX& e : basis) v -= v.dot(e) * e;
+      const Real norm = v.norm();
+      if (norm > 1e-12 * std::sqrt(static_cast<Real>(n))) basis.push_back(v / norm);
+    }
+    if (basis.empty()) return;
+    std::vector<Vec> vecs(basis.size());
+    for (size_t k = 0; k < basis.size(); ++k) {
+      check(MatCreateVecs(A_, &vecs[k], nullptr), "MatCreateVecs");
+      PetscScalar* p = nullptr;
+      VecGetArray(vecs[k], &p);
+      std::copy(basis[k].data(), basis[k].data() + padded_, p);
+      VecRestoreArray(vecs[k], &p);
+    }
+    MatNullSpace space = nullptr;
+    check(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space),
+          "MatNullSpaceCreate");
+    check(MatSetNearNullSpace(A_, space), "MatSetNearNullSpace");
+    MatNullSpaceDestroy(&space);
+    for (Vec& v : vecs) VecDestroy(&v);
+  }
+
+  void configure() {
+    if (!ksp_) check(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    if (configured_) return;
+    PC pc = nullptr;
+    KSPGetPC(ksp_, &pc);
+    if (s_.type == "mumps") {
+      check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
+      check(PCSetType(pc, symmetric_ ? PCCHOLESKY : PCLU), "PCSetType");
+      check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    } else if (s_.type == "gamg" || s_.type == "hypre") {
+      check(KSPSetType(ksp_, symmetric_ ? KSPCG : KSPGMRES), "KSPSetType");
+      // rtol on the true residual |b - A x| / |b| (CG's default is the preconditioned one).
+      if (symmetric_) KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED);
+      if (!symmetric_) KSPGMRESSetRestart(ksp_, 200);
+      if (s_.type == "gamg") {
+        check(PCSetType(pc, PCGAMG), "PCSetType");
+        PCGAMGSetType(pc, PCGAMGAGG);
+        PCGAMGSetReuseInterpolation(pc, PETSC_TRUE);
+      } else {
+        check(PCSetType(pc, PCHYPRE), "PCSetType (is PETSc built with hypre?)");
+        PCHYPRESetType(pc, "boomeramg");
+      }
+    }
+    check(KSPSetTolerances(ksp_, s_.rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+    check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+    configured_ = true;
+  }
+
+  LinearSolverSettings s_;
+  std::shared_ptr<const UnknownLayout> layout_;
+  bool symmetric_ = true, configured_ = false, nullspace_stale_ = true;
+  Mat A_ = nullptr;
+  Vec b_ = nullptr, x_ = nullptr;
+  KSP ksp_ = nullptr;
+  Index padded_ = 0;
+  int bs_ = 1, iterations_ = 0;
+  std::vector<int> outer_, inner_;
+  std::string failure_ = "failed";
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& settings) {
+  return std::make_unique<PetscKsp>(settings);
+}
+
+void finalize_petsc() {
+  if (!g_started_here) return;
+  PetscFinalize();
+  g_started_here = false;
+}
+
+}  // namespace signorini

@@ -1,0 +1,24 @@
+// PETSc's linear solvers behind LinearSolver (built with SIGNORINI_WITH_PETSC): one
+// process's system copied into a sequential AIJ matrix and solved by a KSP.
+//   gamg   conjugate gradients (GMRES when unsymmetric) preconditioned by PETSc's smoothed
+//          aggregation multigrid, with the rigid-body modes as near-nullspace and the
+//          interpolation reused while the pattern holds (Adams et al. 2004; PETSc manual, PCGAMG);
+//   hypre  the same Krylov method with hypre's BoomerAMG (nodal systems of block size dim);
+//   mumps  MUMPS's direct LU, or LDL^T when symmetric (any nonsingular system);
+//   petsc  PETSc's defaults (GMRES, ILU(0)), to be set by the raw options.
+// The deck's `options` string is inserted into PETSc's options database before the KSP
+// reads it, so "-ksp_monitor" or "-pc_gamg_threshold 0.02" override the choices above.
+#pragma once
+#include <memory>
+
+#include "signorini/solver/linear_solver.hpp"
+
+namespace signorini {
+
+std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& settings);
+
+// PETSc (and MPI) are initialized on first use; finalize_petsc() ends them at the end of
+// main when they were started (a no-op otherwise).
+void finalize_petsc();
+
+}  // namespace signorini

@@ -1,0 +1,113 @@
+// PETSc's linear solvers (issue 15; built with SIGNORINI_WITH_PETSC): on the shipped Hertz
+// examples they give the answers of the direct SuiteSparse solvers to what the tolerances fix,
+// with the Krylov iterations of every Newton iteration recorded and bounded; combinations
+// algebraic multigrid cannot take are refused with a reason. Skipped in a build without PETSc.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hertz_runner.hpp"
+#include "signorini/core/error.hpp"
+#include "signorini/solver/linear_solver.hpp"
+
+using namespace signorini;
+
+namespace {
+
+// The example's deck with `replace` applied (from -> to) and `extra` appended.
+std::string example_deck(const std::string& example, const std::string& extra,
+                         const std::vector<std::pair<std::string, std::string>>& replace = {}) {
+  std::string deck = test::example_deck_text(example);
+  for (const auto& [from, to] : replace) {
+    const size_t p = deck.find(from);
+    EXPECT_NE(p, std::string::npos) << example << ": " << from;
+    if (p != std::string::npos) deck.replace(p, from.size(), to);
+  }
+  return deck + extra;
+}
+
+int max_krylov(const AnalysisSummary& s) {
+  int k = 0;
+  for (const auto& r : s.increments)
+    for (int i : r.krylov_iterations) k = std::max(k, i);
+  return k;
+}
+
+// Each check of `b` equals `a`'s to `rel` of its value.
+void expect_same_checks(const test::HertzRun& a, const test::HertzRun& b, Real rel, const std::string& what) {
+  ASSERT_EQ(a.checks.size(), b.checks.size());
+  for (size_t k = 0; k < a.checks.size(); ++k) {
+    EXPECT_NEAR(b.checks[k].computed, a.checks[k].computed, rel * std::abs(a.checks[k].computed))
+        << what << ": " << a.checks[k].check.name;
+    EXPECT_TRUE(b.checks[k].pass) << what << ": " << b.checks[k].check.name;
+  }
+}
+
+// The example run with its own solver and with `solver` appended to the deck: both complete,
+// the second reports `used`, takes as many Newton iterations (the same Newton steps to the
+// linear tolerance) and every check agrees to 1e-6. Returns the second run.
+test::HertzRun expect_same_answer(const std::string& example, const std::string& solver, const std::string& used) {
+  const test::HertzRun a = test::run_deck_text(example_deck(example, ""), example);
+  const test::HertzRun b = test::run_deck_text(example_deck(example, solver), example + "_" + used);
+  EXPECT_TRUE(a.summary.completed && b.summary.completed) << example << " " << used << ": " << b.summary.failure;
+  if (!b.summary.increments.empty()) EXPECT_EQ(b.summary.increments.back().linear_solver, used);
+  EXPECT_EQ(b.summary.total_iterations, a.summary.total_iterations) << example << " " << used;
+  expect_same_checks(a, b, 1e-6, example + " " + used);
+  return b;
+}
+
+}  // namespace
+
+TEST(Petsc, GamgOnTheCondensedHertzSphere3DMatchesCholmod) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // Lagrange multipliers (the default) condensed, then CG with smoothed aggregation and the
+  // rigid-body modes; rtol 1e-10 so that the Newton iterations match the direct solve's.
+  const test::HertzRun b =
+      expect_same_answer("hertz_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", "condensed+gamg");
+  // Smoothed aggregation with the rigid-body modes: a few tens of iterations (measured: at most 38).
+  EXPECT_GT(max_krylov(b.summary), 0);
+  EXPECT_LE(max_krylov(b.summary), 80);
+  std::printf("hertz_sphere_3d: gamg %d Newton iterations, at most %d CG iterations per solve\n",
+              b.summary.total_iterations, max_krylov(b.summary));
+}
+
+TEST(Petsc, PenaltyWithHypreAndMumpsMatchesTheDirectSolve) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // Penalty has no multipliers: algebraic multigrid takes the whole system.
+  const std::vector<std::pair<std::string, std::string>> penalty = {
+      {"slave: SphereSurface", "slave: SphereSurface\n    enforcement: {method: penalty}"}};
+  const test::HertzRun a = test::run_deck_text(example_deck("hertz_sphere_3d", "", penalty), "penalty");
+  for (const char* type : {"hypre", "mumps"}) {
+    const test::HertzRun b = test::run_deck_text(
+        example_deck("hertz_sphere_3d", std::string("solver: {linear: {type: ") + type + ", rtol: 1e-10}}\n", penalty),
+        type);
+    ASSERT_TRUE(a.summary.completed && b.summary.completed) << type << ": " << b.summary.failure;
+    EXPECT_EQ(b.summary.increments.back().linear_solver, type);
+    expect_same_checks(a, b, 1e-6, type);
+    if (std::string(type) == "mumps") EXPECT_EQ(max_krylov(b.summary), 0);  // direct (no Krylov iterations)
+  }
+}
+
+TEST(Petsc, MumpsSolvesTheWholeMultiplierSystemAndGamgTheAxisymmetricOne) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // mumps takes the saddle-point system of the multipliers as it is (LU); gamg on an
+  // axisymmetric model (its near-nullspace: the axial translation only).
+  expect_same_answer("hertz_cylinder", "solver: {linear: mumps, condense_contact: false}\n", "mumps");
+  expect_same_answer("hertz_sphere_axisymmetric", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", "condensed+gamg");
+}
+
+TEST(Petsc, AlgebraicMultigridRefusesAnUncondensableMultiplierSystem) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // condense_contact: false would leave the saddle point, which algebraic multigrid cannot
+  // take: the deck is refused with the place and what to use instead.
+  try {
+    test::run_deck_text(example_deck("hertz_cylinder", "solver: {linear: gamg, condense_contact: false}\n"), "refused");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("algebraic multigrid"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("condense_contact"), std::string::npos) << e.what();
+  }
+}
