@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Hertz 3D quarter model (examples/hertz_sphere_3d) at increasing size: DOFs, Newton
 # iterations, wall time split into assembly / contact / linear solve, peak memory, and the
-# errors against Hertz. Usage: bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]
+# errors against Hertz. Usage: [LINEAR=gamg] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]
+# LINEAR: the deck's solver.linear (default: the deck's own, auto).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -14,6 +15,7 @@ printf "%-7s %8s %6s %9s %9s %9s %9s %9s %8s %8s  %s\n" hc dofs iters total_s as
 for hc in "${sizes[@]}"; do
   sed -e "s|hc: [0-9.]*|hc: $hc|" -e "s|file: hertz_sphere_3d.geo|file: $here/examples/hertz_sphere_3d/hertz_sphere_3d.geo|" \
     "$here/examples/hertz_sphere_3d/hertz_sphere_3d.yaml" > "$work/deck.yaml"
+  if [ -n "${LINEAR:-}" ]; then echo "solver: {linear: $LINEAR}" >> "$work/deck.yaml"; fi
   "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }

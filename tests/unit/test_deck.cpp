@@ -83,6 +83,17 @@ TEST(Deck, GoodDeckReads) {
 TEST(Deck, MalformedYaml) {
   auto m = error_of("malformed", replace(kGood, "steel: {model", "steel: {{model"));
   EXPECT_MESSAGE(m, "malformed.yaml:", "malformed YAML");
+  // Issue 17: the parser notices an unclosed bracket or quote lines later; the message also
+  // names where it opened.
+  m = error_of("unclosed_brace", replace(kGood, "nu: 0.3}", "nu: 0.3"));
+  EXPECT_MESSAGE(m, "unclosed_brace.yaml:", "malformed YAML", "'{' opened at line 5, column 10 is not closed");
+  m = error_of("unclosed_bracket", replace(kGood, "traction: [1e6, 0]}", "traction: [1e6, 0}"));
+  EXPECT_MESSAGE(m, "unclosed_bracket.yaml:14", "'[' opened at line 14, column 32 is not closed");
+  m = error_of("unclosed_quote", replace(kGood, "region: Square", "region: \"Square"));
+  EXPECT_MESSAGE(m, "unclosed_quote.yaml:", "quoted text opened by \" at line 7, column 27 is not closed");
+  // An apostrophe inside a plain scalar and a # inside quotes open nothing.
+  m = error_of("apostrophe", replace(replace(kGood, "title: square", "title: Klang's \"#1\" pin"), "nu: 0.3}", "nu: 0.3"));
+  EXPECT_MESSAGE(m, "apostrophe.yaml:", "'{' opened at line 5");
 }
 
 TEST(Deck, UnknownKeys) {

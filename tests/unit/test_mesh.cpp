@@ -7,6 +7,7 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "signorini/core/error.hpp"
 #include "signorini/mesh/gmsh_reader.hpp"
@@ -88,5 +89,29 @@ TEST(Mesh, MissingAndBrokenFilesGiveClearErrors) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("syntax error"), std::string::npos) << e.what();
+  }
+}
+
+// Issue 17: a non-finite coordinate in a .msh (inf, nan, 1e999) stops the read with the
+// file, the line and the node.
+TEST(Mesh, NonFiniteCoordinatesAreRefusedWithTheLine) {
+  std::ifstream in(kData + "/inverted.msh");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  for (const char* bad : {"inf", "nan", "1e999"}) {
+    std::string text = ss.str();
+    text.replace(text.find("\n7 1.5 0.5 0"), 12, std::string("\n7 1.5 ") + bad + " 0");
+    const std::string path = (std::filesystem::temp_directory_path() / "signorini_nonfinite.msh").string();
+    std::ofstream(path) << text;
+    try {
+      read_gmsh(path);
+      ADD_FAILURE() << bad << ": accepted";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("signorini_nonfinite.msh:16"), std::string::npos) << m;
+      EXPECT_NE(m.find("node 7"), std::string::npos) << m;
+      EXPECT_NE(m.find("non-finite"), std::string::npos) << m;
+    }
+    std::filesystem::remove(path);
   }
 }

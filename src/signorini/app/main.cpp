@@ -51,7 +51,7 @@ void print_model(const Model& m, const DeckReport& rep) {
              m.newton.max_iterations, m.newton.residual_tolerance);
 }
 
-int run(const std::string& deck, const std::string& outdir, bool check_only) {
+int run(const std::string& deck, const std::string& outdir, bool check_only, const std::string& restart) {
   const Registry registry = default_registry();
   DeckReport rep;
   Model model = read_deck(deck, registry, &rep);
@@ -63,6 +63,19 @@ int run(const std::string& deck, const std::string& outdir, bool check_only) {
   const std::string dir = outdir.empty() ? model.output.directory : outdir;
   ResultsWriter writer(model, dir);
   Analysis analysis(model);
+  if (!restart.empty()) {
+    analysis.read_restart(restart);
+    fmt::print("  restart    from {}: steps 1 to {} done, continuing with step {} '{}'\n", restart,
+               analysis.first_step(), analysis.first_step() + 1,
+               analysis.first_step() < static_cast<int>(model.steps.size()) ? model.steps[analysis.first_step()].name
+                                                                              : std::string("(none left)"));
+  }
+  if (model.output.restart == "every_step")
+    analysis.on_step([&](const Analysis& a, int step) {
+      const std::string path = fmt::format("{}/restart_{:04d}.bin", dir, step + 1);
+      a.write_restart(path);
+      log::info("restart file {} written", path);
+    });
   fmt::print("  unknowns   {} DOFs, {} threads\n", analysis.dofs().num_dofs(), omp_get_max_threads());
   std::fflush(stdout);
   writer.write_initial(analysis);
@@ -112,7 +125,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Signorini: finite element solver for contact mechanics"};
   app.set_version_flag("--version", std::string("signorini ") + SIGNORINI_VERSION);
   app.require_subcommand(1);
-  std::string deck, outdir, type;
+  std::string deck, outdir, type, restart;
   int threads = 0;
   bool quiet = false, verbose = false;
   auto* run_cmd = app.add_subcommand("run", "solve a deck");
@@ -120,6 +133,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--output", outdir, "output directory (default: the deck's output.directory)");
   run_cmd->add_option("--threads", threads, "number of threads (default: all cores)")->check(CLI::Range(1, 1024));
   run_cmd->add_flag("-q,--quiet", quiet, "print only warnings, errors and the final summary");
+  run_cmd->add_option("--restart", restart, "continue from a restart file (output: {restart: every_step})");
   run_cmd->add_flag("-v,--verbose", verbose, "print debugging output (Gmsh's too)");
   auto* check_cmd = app.add_subcommand("check", "read a deck and its mesh, print the model, solve nothing");
   check_cmd->add_option("deck", deck, "deck file (.yaml)")->required();
@@ -166,7 +180,7 @@ int main(int argc, char** argv) {
       if (s->name == "contact") fmt::print("\n{}", contact_compatibility_text());
       return 0;
     }
-    return run(deck, outdir, check_cmd->parsed());
+    return run(deck, outdir, check_cmd->parsed(), restart);
   } catch (const InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 1;

@@ -1,9 +1,12 @@
 #include "signorini/contact/contact_interface.hpp"
 
 #include <algorithm>
+#include <istream>
 #include <limits>
+#include <ostream>
 
 #include "signorini/contact/compatibility.hpp"
+#include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 
@@ -399,6 +402,54 @@ ContactStats ContactInterface::commit() {
       r.committed_friction = now;
     }
   return st;
+}
+
+void ContactInterface::save(std::ostream& os) const {
+  using namespace binary;
+  put<std::int64_t>(os, static_cast<std::int64_t>(nodes_.size()));
+  for (const NodeRecord& r : nodes_) {
+    put(os, r.stiffness);
+    put(os, r.tangential_stiffness);
+    put(os, r.shift_committed);
+    put(os, r.committed_closed);
+    put(os, r.committed_friction);
+    put_vec3(os, r.traction_committed);
+    put(os, r.slip_increment);
+    put(os, r.slip_accumulated);
+    put(os, r.reported_pressure);
+    put(os, r.origin.valid);
+    put_vec3(os, r.origin.point);
+    std::vector<Index> nodes;
+    std::vector<Real> weights;
+    for (const auto& [n, w] : r.origin.nodes) nodes.push_back(n), weights.push_back(w);
+    put_vector(os, nodes);
+    put_vector(os, weights);
+  }
+}
+
+void ContactInterface::load(std::istream& is) {
+  using namespace binary;
+  const auto n = get<std::int64_t>(is);
+  if (n != static_cast<std::int64_t>(nodes_.size()))
+    throw Error("contact '" + label_ + "': " + std::to_string(n) + " slave nodes in the file, the model has " +
+                std::to_string(nodes_.size()));
+  for (NodeRecord& r : nodes_) {
+    r.stiffness = get<Real>(is);
+    r.tangential_stiffness = get<Real>(is);
+    r.shift = r.shift_committed = get<Real>(is);
+    r.last_closed = r.committed_closed = get<bool>(is);
+    r.committed_friction = get<StickSlip>(is);
+    r.traction_old = r.traction_committed = get_vec3(is);
+    r.slip_increment = get<Real>(is);
+    r.slip_accumulated = get<Real>(is);
+    r.reported_pressure = get<Real>(is);
+    r.origin.valid = get<bool>(is);
+    r.origin.point = get_vec3(is);
+    const std::vector<Index> nodes = get_vector<Index>(is, -1, "slip origin");
+    const std::vector<Real> weights = get_vector<Real>(is, static_cast<std::int64_t>(nodes.size()), "slip origin");
+    r.origin.nodes.clear();
+    for (size_t k = 0; k < nodes.size(); ++k) r.origin.nodes.emplace_back(nodes[k], weights[k]);
+  }
 }
 
 }  // namespace signorini

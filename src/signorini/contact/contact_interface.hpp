@@ -3,6 +3,7 @@
 // the chattering guard, and what the output needs. Two-pass node-to-segment is two
 // interfaces, the second with master and slave swapped.
 #pragma once
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -121,6 +122,12 @@ class ContactInterface {
   // pass this is the multiplier per area; with two passes a node also carries the other pass's
   // constraints as a master node, and the multipliers alone split the pressure between passes.
   void set_reported_pressure(const std::vector<Vec3>& nodal_force);
+
+  // Restart files: the per-node records (committed statuses, multiplier shifts, friction
+  // tractions, slip origins and records) written and read back; load throws Error when the
+  // file's pair does not match this one.
+  void save(std::ostream& os) const;
+  void load(std::istream& is);
 
   const SlaveSurface& slave() const { return slave_; }
   const ConstraintSet& constraints() const { return constraints_; }

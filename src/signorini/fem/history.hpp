@@ -32,6 +32,10 @@ class QuadratureHistory {
   void commit() { committed_ = trial_; }  // the increment converged
   void revert() { trial_ = committed_; }  // the increment is cut back, or starts
   const std::vector<Real>& committed_values() const { return committed_; }
+  // A restart: the committed (and trial) state read back; the size must match.
+  void restore(const std::vector<Real>& committed) {
+    committed_ = trial_ = committed;
+  }
 
  private:
   Index offset(size_t block, Index element) const { return block_offset_[block] + element * per_element_[block]; }

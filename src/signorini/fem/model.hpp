@@ -77,6 +77,7 @@ struct NewtonSettings {
 struct OutputSettings {
   std::string directory = "results";
   std::string vtu = "every_increment";  // every_increment, last, none
+  std::string restart = "none";         // every_step: restart_<step>.bin after each step
 };
 
 // A reference value to compare with after the run (deck `checks:`).

@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
+#include <sstream>
 
 #include "signorini/contact/compatibility.hpp"
 #include "signorini/contact/surface.hpp"
@@ -717,6 +720,89 @@ void read_checks(const Node& n, const Registry& r, Model& m) {
   }
 }
 
+// What is still open where the YAML parser gave up: the innermost unclosed flow bracket
+// ({ or [) or quoted scalar before (line, col) (0-based), as " (the '{' opened at line N is
+// not closed)"; empty when nothing is open. The parser reports where it noticed the error,
+// often lines after the bracket or quote that caused it. A quote opens a scalar only at the
+// start of a token (a plain scalar may hold an apostrophe: Klang's pin); # starts a comment
+// only after a blank; block scalars (| or >) are skipped.
+std::string yaml_open_context(const std::string& text, int err_line, int err_col) {
+  struct Open {
+    char c;
+    int line, col;
+  };
+  std::vector<Open> stack;
+  std::optional<Open> quote;
+  int line = 0, col = 0;
+  int block_indent = -1;  // inside a block scalar: lines indented more than this belong to it
+  bool line_start = true;
+  int indent = 0;
+  char prev = '\n';  // the last character that is not a blank
+  bool prev_blank = true;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (line > err_line || (line == err_line && col >= err_col)) break;
+    const char ch = text[i];
+    if (ch == '\n') {
+      // A line ending in | or > (after a key or a dash) starts a block scalar.
+      if (!quote && (prev == '|' || prev == '>')) block_indent = indent;
+      ++line, col = 0, line_start = true, indent = 0, prev_blank = true;
+      if (!quote) prev = '\n';
+      continue;
+    }
+    if (line_start && ch == ' ') {
+      ++indent, ++col;
+      continue;
+    }
+    if (line_start) {
+      line_start = false;
+      if (block_indent >= 0 && indent > block_indent) {  // skip the block scalar's line
+        while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+        continue;
+      }
+      block_indent = -1;
+    }
+    if (quote) {
+      if (quote->c == '"' && ch == '\\') {
+        ++i, col += 2;
+        continue;
+      }
+      if (ch == quote->c) {
+        if (quote->c == '\'' && i + 1 < text.size() && text[i + 1] == '\'') {  // '' inside '...'
+          ++i, col += 2;
+          continue;
+        }
+        quote.reset();
+        prev = ch, prev_blank = false;
+      }
+      ++col;
+      continue;
+    }
+    if (ch == '#' && prev_blank) {  // a comment: to the end of the line
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+      continue;
+    }
+    if ((ch == '"' || ch == '\'') && (prev == '\n' || (prev_blank && std::string(":,[{-").find(prev) != std::string::npos) ||
+                                      prev == '[' || prev == '{' || prev == ',')) {
+      quote = Open{ch, line, col};
+    } else if (ch == '{' || ch == '[') {
+      stack.push_back({ch, line, col});
+    } else if ((ch == '}' || ch == ']') && !stack.empty()) {
+      if ((ch == '}') != (stack.back().c == '{'))
+        return fmt::format(" (the '{}' opened at line {}, column {} is closed by '{}' at line {}, column {})",
+                           stack.back().c, stack.back().line + 1, stack.back().col + 1, ch, line + 1, col + 1);
+      stack.pop_back();
+    }
+    if (ch != ' ' && ch != '\t') prev = ch;
+    prev_blank = ch == ' ' || ch == '\t';
+    ++col;
+  }
+  auto where = [](const Open& o) { return fmt::format("line {}, column {}", o.line + 1, o.col + 1); };
+  if (quote)
+    return fmt::format(" (the quoted text opened by {} at {} is not closed)", quote->c, where(*quote));
+  if (!stack.empty()) return fmt::format(" (the '{}' opened at {} is not closed)", stack.back().c, where(stack.back()));
+  return "";
+}
+
 }  // namespace
 
 Model read_deck(const std::string& path, const Registry& registry, DeckReport* report) {
@@ -726,7 +812,11 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   try {
     root = YAML::LoadFile(path);
   } catch (const YAML::ParserException& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1), "", "malformed YAML: " + e.msg);
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1), "",
+                     "malformed YAML: " + e.msg + yaml_open_context(text.str(), e.mark.line, e.mark.column));
   } catch (const YAML::Exception& e) {
     throw InputError(path, "", std::string("cannot read the deck: ") + e.what());
   }
@@ -764,6 +854,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
     o.check_keys(os);
     m.output.directory = o.text(os, "directory");
     m.output.vtu = o.text(os, "vtu");
+    m.output.restart = o.text(os, "restart");
   }
   if (top.has("checks")) read_checks(top.child("checks"), registry, m);
   if (report) *report = rep;

@@ -365,7 +365,11 @@ void register_deck_sections(Registry& r) {
                  "0", 0, 1)}});
   r.add({"deck", "output", "Output settings.",
          {text("directory", "output directory (the command line's -o wins)", "results"),
-          choice("vtu", "when to write ParaView files", {"every_increment", "last", "none"}, "every_increment")}});
+          choice("vtu", "when to write ParaView files", {"every_increment", "last", "none"}, "every_increment"),
+          choice("restart",
+                 "every_step: a restart file restart_<step>.bin in the output directory after each step (signorini "
+                 "run deck --restart FILE continues from it)",
+                 {"none", "every_step"}, "none")}});
   r.add({"deck", "check", "A reference value compared with the result after the run; a failed check makes the run "
                           "exit with code 3.",
          {text("name", "what is checked", std::nullopt),

@@ -257,7 +257,8 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
 
 void ResultsWriter::write_initial(const Analysis& a) {
   write_file_atomically(dir_ + "/reactions.csv", csv_);
-  if (model_.output.vtu != "none") write_vtu(a, 0.0, -1, 0);
+  // The state the run starts from: undeformed, or a restart's (at the time it was written).
+  if (model_.output.vtu != "none") write_vtu(a, static_cast<Real>(a.first_step()), -1, 0);
   write_json(a, a.summary(), "running", {});
 }
 
@@ -389,6 +390,7 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                    json_number(s.assembly_seconds), json_number(s.contact_seconds), json_number(s.solve_seconds),
                    json_number(log::elapsed()));
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
+  if (a.first_step() > 0) j += fmt::format("  \"restarted_after_step\": {},\n", a.first_step());
   j += fmt::format("  \"mpi_ranks\": 1,\n  \"linear\": {{\"type\": \"{}\", \"rtol\": {}, \"options\": \"{}\"}},\n",
                    m.linear_solver.type, json_number(m.linear_solver.rtol), json_escape(m.linear_solver.options));
   j += "  \"increments\": [";

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -27,6 +29,25 @@
 namespace signorini {
 
 namespace {
+
+// The ":line" of an ASCII .msh's node line that holds `tag` and a non-finite number (inf,
+// nan, or beyond the double range), for the message; empty when not found (binary files).
+std::string nonfinite_line(const std::string& path, std::size_t tag) {
+  std::ifstream in(path);
+  std::string line;
+  bool nodes = false;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.rfind("$Nodes", 0) == 0) nodes = true;
+    else if (line.rfind("$EndNodes", 0) == 0) nodes = false;
+    if (!nodes) continue;
+    std::istringstream ss(line);
+    std::string first, word;
+    if (!(ss >> first) || first != std::to_string(tag)) continue;
+    while (ss >> word)
+      if (!std::isfinite(std::strtod(word.c_str(), nullptr))) return ":" + std::to_string(n);
+  }
+  return "";
+}
 
 std::mutex g_gmsh_mutex;  // the Gmsh library holds one global model
 
@@ -276,6 +297,10 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
       index[tags[i]] = static_cast<Index>(i);
       mesh.nodes[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
       mesh.node_ids[i] = static_cast<Index>(tags[i]);
+      if (!mesh.nodes[i].allFinite())
+        throw InputError(ext == ".msh" ? path + nonfinite_line(path, tags[i]) : where, "mesh.file",
+                         fmt::format("node {} of '{}' has a non-finite coordinate ({}, {}, {})", tags[i], path,
+                                     coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]));
     }
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups, -1);

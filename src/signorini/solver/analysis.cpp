@@ -4,11 +4,15 @@
 #include <csignal>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <fstream>
 #include <functional>
+#include <sstream>
 
+#include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/io/atomic_file.hpp"
 
 namespace signorini {
 
@@ -711,10 +715,12 @@ AnalysisSummary Analysis::run() {
 AnalysisSummary Analysis::run_steps() {
   log::Timer total;
   summary_ = {};
+  summary_.first_step = first_step_;
   previous_loads_.clear();
+  if (first_step_ > 0) previous_loads_ = model_.steps[first_step_ - 1].loads;
   static const std::vector<Load> none;
   current_loads_ = &none;
-  for (int s = 0; s < static_cast<int>(model_.steps.size()); ++s) {
+  for (int s = first_step_; s < static_cast<int>(model_.steps.size()); ++s) {
     const Step& step = model_.steps[s];
     begin_step(s);
     last_dl_ = 0;  // a new step changes the loading path: no extrapolation across it
@@ -800,10 +806,71 @@ AnalysisSummary Analysis::run_steps() {
       if (observer_) observer_(*this, rec);
     }
     previous_loads_ = step.loads;
+    if (step_observer_) step_observer_(*this, s);
   }
   summary_.completed = true;
   summary_.total_seconds = total.seconds();
   return summary_;
+}
+
+namespace {
+constexpr char kRestartMagic[] = "SIGNORINI-RESTART-1\n";
+}
+
+void Analysis::write_restart(const std::string& path) const {
+  using namespace binary;
+  std::ostringstream os(std::ios::binary);
+  os.write(kRestartMagic, sizeof(kRestartMagic) - 1);
+  put<std::int32_t>(os, step_ + 1);  // steps completed
+  put<std::int64_t>(os, model_.mesh.num_nodes());
+  put<std::int64_t>(os, static_cast<std::int64_t>(model_.steps.size()));
+  put_vec(os, u_converged_);
+  put_vec(os, last_du_);
+  put<Real>(os, last_dl_);
+  put<std::int64_t>(os, static_cast<std::int64_t>(history_.size()));
+  for (const auto& h : history_) put_vector(os, h.committed_values());
+  put<std::int64_t>(os, static_cast<std::int64_t>(contacts_.size()));
+  for (const auto& c : contacts_) c->save(os);
+  write_file_atomically(path, os.str());
+}
+
+void Analysis::read_restart(const std::string& path) {
+  using namespace binary;
+  std::ifstream is(path, std::ios::binary);
+  if (!is) throw InputError(path, "--restart", "cannot open the restart file");
+  try {
+    std::string magic(sizeof(kRestartMagic) - 1, '\0');
+    if (!is.read(magic.data(), static_cast<std::streamsize>(magic.size())) || magic != kRestartMagic)
+      throw Error("not a Signorini restart file (version 1)");
+    const auto done = get<std::int32_t>(is);
+    const auto nodes = get<std::int64_t>(is);
+    const auto steps = get<std::int64_t>(is);
+    if (nodes != model_.mesh.num_nodes())
+      throw Error(fmt::format("written for a mesh of {} nodes, this deck's has {}", nodes, model_.mesh.num_nodes()));
+    if (steps != static_cast<std::int64_t>(model_.steps.size()) || done < 1 || done > steps)
+      throw Error(fmt::format("written after step {} of {}, this deck has {} steps", done, steps, model_.steps.size()));
+    VecX u = get_vec(is, num_unknowns(), "unknowns");
+    VecX du = get_vec(is, -1, "last increment");
+    const Real dl = get<Real>(is);
+    if (get<std::int64_t>(is) != static_cast<std::int64_t>(history_.size())) throw Error("the bodies differ");
+    std::vector<std::vector<Real>> hist;
+    for (const auto& h : history_)
+      hist.push_back(get_vector<Real>(is, static_cast<std::int64_t>(h.committed_values().size()), "history"));
+    if (get<std::int64_t>(is) != static_cast<std::int64_t>(contacts_.size())) throw Error("the contact pairs differ");
+    for (auto& c : contacts_) c->load(is);
+    if (is.peek() != std::char_traits<char>::eof()) throw Error("unexpected data at the end");
+    u_ = u_converged_ = u;
+    last_du_ = du.size() == u.size() ? du : VecX::Zero(u.size());
+    last_dl_ = dl;
+    for (size_t i = 0; i < history_.size(); ++i) history_[i].restore(hist[i]);
+    first_step_ = done;
+    step_ = done - 1;
+    log::info("restart: continuing after step {} '{}' from {}", done, model_.steps[done - 1].name, path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw InputError(path, "--restart", std::string("cannot restart from it: ") + e.what());
+  }
 }
 
 Vec3 Analysis::reaction_sum(const std::string& node_set) const {

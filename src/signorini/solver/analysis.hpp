@@ -56,6 +56,7 @@ struct AnalysisSummary {
   bool interrupted = false;       // stopped by SIGINT/SIGTERM (the state is the last converged one)
   double assembly_seconds = 0, solve_seconds = 0, total_seconds = 0;
   double contact_seconds = 0;  // detection, constraints and enforcement (not in assembly_seconds)
+  int first_step = 0;          // > 0: continued from a restart file written after that many steps
 };
 
 class Analysis {
@@ -64,6 +65,16 @@ class Analysis {
 
   // Called after every converged increment (to write results) with the record.
   void on_increment(std::function<void(const Analysis&, const IncrementRecord&)> f) { observer_ = std::move(f); }
+  // Called after every completed step (0-based index), e.g. to write a restart file.
+  void on_step(std::function<void(const Analysis&, int)> f) { step_observer_ = std::move(f); }
+  // Restart files (output: {restart: every_step}): the state after a completed step, in a
+  // binary file of this model (unknowns, the predictor's last increment, the bodies'
+  // quadrature-point history, each contact pair's per-node records). read_restart, before
+  // run(), continues from it: the steps before it are skipped. Throws InputError (with the
+  // file) when the file is not a restart file of this model.
+  void write_restart(const std::string& path) const;
+  void read_restart(const std::string& path);
+  int first_step() const { return first_step_; }  // steps a restart skipped (0: none)
   // Runs every step; never throws for a problem the analysis can diagnose: the summary says
   // completed, or why it gave up (the state is then the last converged one).
   AnalysisSummary run();
@@ -174,6 +185,8 @@ class Analysis {
 
   AnalysisSummary summary_;
   std::function<void(const Analysis&, const IncrementRecord&)> observer_;
+  std::function<void(const Analysis&, int)> step_observer_;
+  int first_step_ = 0;  // set by read_restart
 };
 
 }  // namespace signorini

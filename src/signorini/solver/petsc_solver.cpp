@@ -129,50 +129,70 @@ class PetscKsp final : public LinearSolver {
     return layout_->dim;
   }
 
+  // The system into a sequential AIJ (CSR) matrix, padded with identity rows to a multiple
+  // of the block size. A symmetric matrix's CSC arrays are its CSR arrays (no transposed
+  // copy); with the pattern of the last call the values are copied straight into PETSc's.
   void copy_matrix(const SparseMatrix& a) {
     using RowMatrix = Eigen::SparseMatrix<Real, Eigen::RowMajor, int>;
-    RowMatrix r(a);  // CSR: the matrix may be unsymmetric
-    r.makeCompressed();
-    const Index n = r.rows();
+    RowMatrix transposed;
+    const int* outer = a.outerIndexPtr();
+    const int* inner = a.innerIndexPtr();
+    const Real* values = a.valuePtr();
+    if (!symmetric_ || !a.isCompressed()) {
+      transposed = a;  // CSR
+      transposed.makeCompressed();
+      outer = transposed.outerIndexPtr();
+      inner = transposed.innerIndexPtr();
+      values = transposed.valuePtr();
+    }
+    const Index n = a.rows(), nnz = outer[n];
     const int bs = block_size(n);
     const Index np = (n + bs - 1) / bs * bs;
-    const bool same = A_ && np == padded_ && bs == bs_ &&
-                      std::equal(r.outerIndexPtr(), r.outerIndexPtr() + n + 1, outer_.begin(), outer_.end()) &&
-                      std::equal(r.innerIndexPtr(), r.innerIndexPtr() + r.nonZeros(), inner_.begin(), inner_.end());
+    const bool same = A_ && np == padded_ && bs == bs_ && std::equal(outer, outer + n + 1, outer_.begin(), outer_.end()) &&
+                      std::equal(inner, inner + nnz, inner_.begin(), inner_.end());
     if (!same) {
       if (A_) MatDestroy(&A_);
       if (b_) VecDestroy(&b_);
       if (x_) VecDestroy(&x_);
-      outer_.assign(r.outerIndexPtr(), r.outerIndexPtr() + n + 1);
-      inner_.assign(r.innerIndexPtr(), r.innerIndexPtr() + r.nonZeros());
+      outer_.assign(outer, outer + n + 1);
+      inner_.assign(inner, inner + nnz);
+      sorted_ = true;  // PETSc keeps each row's columns sorted
+      for (Index i = 0; i < n && sorted_; ++i)
+        sorted_ = std::is_sorted(inner + outer[i], inner + outer[i + 1]);
       padded_ = np;
       bs_ = bs;
-      std::vector<PetscInt> nnz(static_cast<size_t>(np), 1);
-      for (Index i = 0; i < n; ++i) nnz[i] = std::max<PetscInt>(1, outer_[i + 1] - outer_[i]);
+      // The padded CSR arrays: identity rows after the last.
+      std::vector<PetscInt> i_pad(outer_.begin(), outer_.end()), j_pad(inner_.begin(), inner_.end());
+      std::vector<PetscScalar> v_pad(values, values + nnz);
+      for (Index i = n; i < np; ++i) {
+        j_pad.push_back(static_cast<PetscInt>(i));
+        v_pad.push_back(1.0);
+        i_pad.push_back(static_cast<PetscInt>(j_pad.size()));
+      }
       check(MatCreate(PETSC_COMM_SELF, &A_), "MatCreate");
       check(MatSetSizes(A_, np, np, np, np), "MatSetSizes");
       check(MatSetType(A_, MATSEQAIJ), "MatSetType");
       check(MatSetBlockSize(A_, bs), "MatSetBlockSize");
-      check(MatSeqAIJSetPreallocation(A_, 0, nnz.data()), "preallocation");
+      check(MatSeqAIJSetPreallocationCSR(A_, i_pad.data(), j_pad.data(), v_pad.data()), "MatSeqAIJSetPreallocationCSR");
       check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
       configured_ = false;
       nullspace_stale_ = true;
+    } else if (!sorted_) {
+      for (Index i = 0; i < n; ++i) {
+        const PetscInt row = static_cast<PetscInt>(i);
+        check(MatSetValues(A_, 1, &row, outer[i + 1] - outer[i], inner + outer[i], values + outer[i], INSERT_VALUES),
+              "MatSetValues");
+      }
+      check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
+      check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    } else {
+      // Same pattern: PETSc's value array is in the same CSR order (the padding at its end).
+      PetscScalar* v = nullptr;
+      check(MatSeqAIJGetArray(A_, &v), "MatSeqAIJGetArray");
+      std::copy(values, values + nnz, v);
+      check(MatSeqAIJRestoreArray(A_, &v), "MatSeqAIJRestoreArray");
     }
-    for (Index i = 0; i < n; ++i) {
-      const PetscInt row = static_cast<PetscInt>(i);
-      const int begin = r.outerIndexPtr()[i], count = r.outerIndexPtr()[i + 1] - begin;
-      check(MatSetValues(A_, 1, &row, count, r.innerIndexPtr() + begin, r.valuePtr() + begin, INSERT_VALUES),
-            "MatSetValues");
-    }
-    for (Index i = n; i < np; ++i) {
-      const PetscInt row = static_cast<PetscInt>(i);
-      const PetscScalar one = 1.0;
-      check(MatSetValues(A_, 1, &row, 1, &row, &one, INSERT_VALUES), "MatSetValues");
-    }
-    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
-    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
     MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
-    if (symmetric_) MatSetOption(A_, MAT_SYMMETRY_ETERNAL, PETSC_TRUE);
     if (nullspace_stale_ && s_.type == "gamg") set_near_nullspace(n);
   }
 
@@ -268,7 +288,7 @@ class PetscKsp final : public LinearSolver {
 
   LinearSolverSettings s_;
   std::shared_ptr<const UnknownLayout> layout_;
-  bool symmetric_ = true, configured_ = false, nullspace_stale_ = true;
+  bool symmetric_ = true, configured_ = false, nullspace_stale_ = true, sorted_ = true;
   Mat A_ = nullptr;
   Vec b_ = nullptr, x_ = nullptr;
   KSP ksp_ = nullptr;
