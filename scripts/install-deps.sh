@@ -9,6 +9,7 @@ PKGS=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3-numpy python3-matplotlib
   petsc-dev libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev python3-yaml
 )
 missing=()
 for p in "${PKGS[@]}"; do

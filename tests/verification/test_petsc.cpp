@@ -53,7 +53,9 @@ test::HertzRun expect_same_answer(const std::string& example, const std::string&
   const test::HertzRun a = test::run_deck_text(example_deck(example, ""), example);
   const test::HertzRun b = test::run_deck_text(example_deck(example, solver), example + "_" + used);
   EXPECT_TRUE(a.summary.completed && b.summary.completed) << example << " " << used << ": " << b.summary.failure;
-  if (!b.summary.increments.empty()) EXPECT_EQ(b.summary.increments.back().linear_solver, used);
+  if (!b.summary.increments.empty()) {
+    EXPECT_EQ(b.summary.increments.back().linear_solver, used);
+  }
   EXPECT_EQ(b.summary.total_iterations, a.summary.total_iterations) << example << " " << used;
   expect_same_checks(a, b, 1e-6, example + " " + used);
   return b;
@@ -87,7 +89,9 @@ TEST(Petsc, PenaltyWithHypreAndMumpsMatchesTheDirectSolve) {
     ASSERT_TRUE(a.summary.completed && b.summary.completed) << type << ": " << b.summary.failure;
     EXPECT_EQ(b.summary.increments.back().linear_solver, type);
     expect_same_checks(a, b, 1e-6, type);
-    if (std::string(type) == "mumps") EXPECT_EQ(max_krylov(b.summary), 0);  // direct (no Krylov iterations)
+    if (std::string(type) == "mumps") {
+      EXPECT_EQ(max_krylov(b.summary), 0);  // direct (no Krylov iterations)
+    }
   }
 }
 
