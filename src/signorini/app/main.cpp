@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <omp.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -51,7 +53,7 @@ void print_model(const Model& m, const DeckReport& rep) {
              m.newton.max_iterations, m.newton.residual_tolerance);
 }
 
-int run(const std::string& deck, const std::string& outdir, bool check_only, const std::string& restart) {
+int run(const std::string& deck, const std::string& outdir, bool check_only, const std::string& restart, int rank) {
   const Registry registry = default_registry();
   DeckReport rep;
   Model model = read_deck(deck, registry, &rep);
@@ -61,7 +63,14 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
     return 0;
   }
   const std::string dir = outdir.empty() ? model.output.directory : outdir;
-  ResultsWriter writer(model, dir);
+  // Several MPI ranks: each runs the same analysis; PETSc distributes the linear solves.
+  const int ranks = launched_ranks();
+  if (ranks > 1 && !is_petsc_solver(model.linear_solver.type))
+    throw InputError(deck, "solver.linear",
+                     fmt::format("this run has {} MPI ranks: the linear solver must be one that PETSc distributes "
+                                 "(gamg, hypre, mumps or petsc), not '{}'",
+                                 ranks, model.linear_solver.type));
+  ResultsWriter writer(model, dir, rank == 0);
   Analysis analysis(model);
   if (!restart.empty()) {
     analysis.read_restart(restart);
@@ -70,13 +79,15 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
                analysis.first_step() < static_cast<int>(model.steps.size()) ? model.steps[analysis.first_step()].name
                                                                               : std::string("(none left)"));
   }
-  if (model.output.restart == "every_step")
+  if (model.output.restart == "every_step" && rank == 0)
     analysis.on_step([&](const Analysis& a, int step) {
       const std::string path = fmt::format("{}/restart_{:04d}.bin", dir, step + 1);
       a.write_restart(path);
       log::info("restart file {} written", path);
     });
-  fmt::print("  unknowns   {} DOFs, {} threads\n", analysis.dofs().num_dofs(), omp_get_max_threads());
+  fmt::print("  unknowns   {} DOFs, {} threads{}\n", analysis.dofs().num_dofs(), omp_get_max_threads(),
+             ranks > 1 ? fmt::format(" per rank, {} MPI ranks (the linear solves distributed by PETSc)", ranks)
+                       : std::string());
   std::fflush(stdout);
   writer.write_initial(analysis);
   install_interrupt_handlers();
@@ -156,11 +167,30 @@ int main(int argc, char** argv) {
   if (quiet) log::set_level(log::Level::warning);
   if (verbose) log::set_level(log::Level::debug);
 #ifdef SIGNORINI_HAVE_PETSC
-  // PETSc (and MPI) start on the first PETSc solver's use and end here, after the run's objects.
+  // PETSc (and MPI) start on the first PETSc solver's use, or now under mpirun, and end here,
+  // after the run's objects.
   struct PetscGuard {
     ~PetscGuard() { finalize_petsc(); }
   } petsc_guard;
+  const MpiInfo mpi = run_cmd->parsed() ? start_petsc_if_launched_by_mpi() : MpiInfo{};
+#else
+  const struct {
+    int rank = 0, size = 1;
+  } mpi;
+  if (run_cmd->parsed() && launched_ranks() > 1) {
+    fmt::print(stderr, "error: launched on {} MPI ranks, but this build has no PETSc/MPI (install petsc-dev, "
+                       "reconfigure)\n", launched_ranks());
+    return 1;
+  }
 #endif
+  if (mpi.size > 1) {
+    // Rank 0 speaks for all; the cores are shared between the ranks.
+    if (mpi.rank != 0) {
+      std::freopen("/dev/null", "w", stdout);
+      std::freopen("/dev/null", "w", stderr);
+    }
+    if (threads == 0) omp_set_num_threads(std::max(1, omp_get_num_procs() / mpi.size));
+  }
   try {
     if (bench_search_cmd->parsed()) return bench_search(bso);
     if (describe_cmd->parsed()) {
@@ -180,7 +210,7 @@ int main(int argc, char** argv) {
       if (s->name == "contact") fmt::print("\n{}", contact_compatibility_text());
       return 0;
     }
-    return run(deck, outdir, check_cmd->parsed(), restart);
+    return run(deck, outdir, check_cmd->parsed(), restart, mpi.rank);
   } catch (const InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 1;

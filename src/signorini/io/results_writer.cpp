@@ -156,7 +156,9 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
   return out;
 }
 
-ResultsWriter::ResultsWriter(const Model& model, std::string directory) : model_(model), dir_(std::move(directory)) {
+ResultsWriter::ResultsWriter(const Model& model, std::string directory, bool enabled)
+    : model_(model), dir_(std::move(directory)), enabled_(enabled) {
+  if (!enabled_) return;
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw Error("cannot create the output directory '" + dir_ + "': " + ec.message());
@@ -256,6 +258,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
 }
 
 void ResultsWriter::write_initial(const Analysis& a) {
+  if (!enabled_) return;
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   // The state the run starts from: undeformed, or a restart's (at the time it was written).
   if (model_.output.vtu != "none") write_vtu(a, static_cast<Real>(a.first_step()), -1, 0);
@@ -263,6 +266,7 @@ void ResultsWriter::write_initial(const Analysis& a) {
 }
 
 void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& rec) {
+  if (!enabled_) return;
   for (auto& set : a.reaction_sets()) {
     Vec3 r = a.reaction_sum(set);
     csv_ += fmt::format("{},{},{:.10g},{:.10g},{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment, rec.time,
@@ -366,6 +370,7 @@ void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& 
 }
 
 void ResultsWriter::finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks) {
+  if (!enabled_) return;
   // With vtu: last, a failed run still leaves its last converged state on disk.
   if (!s.completed && model_.output.vtu == "last" && have_last_ && last_record_.fraction < 1.0)
     write_vtu(a, last_record_.time, last_record_.step, last_record_.increment);
@@ -391,8 +396,9 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                    json_number(log::elapsed()));
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
   if (a.first_step() > 0) j += fmt::format("  \"restarted_after_step\": {},\n", a.first_step());
-  j += fmt::format("  \"mpi_ranks\": 1,\n  \"linear\": {{\"type\": \"{}\", \"rtol\": {}, \"options\": \"{}\"}},\n",
-                   m.linear_solver.type, json_number(m.linear_solver.rtol), json_escape(m.linear_solver.options));
+  j += fmt::format("  \"mpi_ranks\": {},\n  \"linear\": {{\"type\": \"{}\", \"rtol\": {}, \"options\": \"{}\"}},\n",
+                   parallel_ranks(), m.linear_solver.type, json_number(m.linear_solver.rtol),
+                   json_escape(m.linear_solver.options));
   j += "  \"increments\": [";
   for (size_t i = 0; i < s.increments.size(); ++i) {
     const auto& r = s.increments[i];

@@ -27,7 +27,8 @@ Real separating_radius(std::vector<std::pair<Real, bool>> points);
 
 class ResultsWriter {
  public:
-  ResultsWriter(const Model& model, std::string directory);
+  // `enabled` false: writes nothing (the ranks other than 0 of an MPI run).
+  ResultsWriter(const Model& model, std::string directory, bool enabled = true);
   // The initial (undeformed) state at time 0, so every run has a PVD and a CSV from the start.
   void write_initial(const Analysis& a);
   void write_increment(const Analysis& a, const IncrementRecord& rec);
@@ -52,6 +53,7 @@ class ResultsWriter {
   std::string csv_;
   IncrementRecord last_record_;
   bool have_last_ = false;
+  bool enabled_ = true;
 };
 
 }  // namespace signorini

@@ -7,6 +7,7 @@
 #include <Eigen/UmfPackSupport>
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "signorini/core/error.hpp"
 #ifdef SIGNORINI_HAVE_PETSC
@@ -88,6 +89,20 @@ bool petsc_available() {
   return true;
 #else
   return false;
+#endif
+}
+
+int launched_ranks() {
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* v = std::getenv(var)) return std::max(1, std::atoi(v));
+  return 1;
+}
+
+int parallel_ranks() {
+#ifdef SIGNORINI_HAVE_PETSC
+  return petsc_world_size();
+#else
+  return 1;
 #endif
 }
 

@@ -60,6 +60,10 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
 bool is_petsc_solver(const std::string& name);
 // Whether this build has PETSc (SIGNORINI_WITH_PETSC).
 bool petsc_available();
+// The number of processes mpirun (OpenMPI or MPICH) launched this one among (1 otherwise),
+// from the environment; and the MPI ranks the linear solve runs on (1 without PETSc).
+int launched_ranks();
+int parallel_ranks();
 const std::vector<std::string>& linear_solver_names();  // for the registry and the deck
 
 // Chooses per factorization: holds the selected solver and falls back as documented.

@@ -43,12 +43,12 @@ class PetscKsp final : public LinearSolver {
   explicit PetscKsp(LinearSolverSettings s) : s_(std::move(s)) {
     ensure_petsc();
     if (!s_.options.empty()) check(PetscOptionsInsertString(nullptr, s_.options.c_str()), "reading the options");
+    MPI_Comm_size(PETSC_COMM_WORLD, &size_);
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
   }
   ~PetscKsp() override {
     if (ksp_) KSPDestroy(&ksp_);
-    if (A_) MatDestroy(&A_);
-    if (b_) VecDestroy(&b_);
-    if (x_) VecDestroy(&x_);
+    destroy_system();
   }
   std::string name() const override { return s_.type; }
   void set_symmetric(bool symmetric) override {
@@ -85,11 +85,11 @@ class PetscKsp final : public LinearSolver {
 
   bool solve(const VecX& b, VecX& x) override {
     try {
-      const PetscInt n = static_cast<PetscInt>(b.size());
+      const Index n = b.size();
+      // This rank's rows of the right-hand side (every rank holds all of it).
       PetscScalar* pb = nullptr;
       check(VecGetArray(b_, &pb), "VecGetArray");
-      std::copy(b.data(), b.data() + n, pb);
-      std::fill(pb + n, pb + padded_, 0.0);
+      for (Index i = rstart_; i < rend_; ++i) pb[i - rstart_] = i < n ? b(i) : 0.0;
       VecRestoreArray(b_, &pb);
       check(KSPSolve(ksp_, b_, x_), "KSPSolve");
       KSPConvergedReason reason;
@@ -102,10 +102,17 @@ class PetscKsp final : public LinearSolver {
                                KSPConvergedReasons[reason], its);
         return false;
       }
+      // The whole solution on every rank (each goes on with the same Newton iteration).
+      Vec whole = x_;
+      if (size_ > 1) {
+        check(VecScatterBegin(gather_, x_, x_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+        check(VecScatterEnd(gather_, x_, x_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+        whole = x_all_;
+      }
       const PetscScalar* px = nullptr;
-      check(VecGetArrayRead(x_, &px), "VecGetArrayRead");
+      check(VecGetArrayRead(whole, &px), "VecGetArrayRead");
       x = Eigen::Map<const VecX>(px, n);
-      VecRestoreArrayRead(x_, &px);
+      VecRestoreArrayRead(whole, &px);
       return x.allFinite();
     } catch (const Error& e) {
       failure_ = e.what();
@@ -151,9 +158,7 @@ class PetscKsp final : public LinearSolver {
     const bool same = A_ && np == padded_ && bs == bs_ && std::equal(outer, outer + n + 1, outer_.begin(), outer_.end()) &&
                       std::equal(inner, inner + nnz, inner_.begin(), inner_.end());
     if (!same) {
-      if (A_) MatDestroy(&A_);
-      if (b_) VecDestroy(&b_);
-      if (x_) VecDestroy(&x_);
+      destroy_system();
       outer_.assign(outer, outer + n + 1);
       inner_.assign(inner, inner + nnz);
       sorted_ = true;  // PETSc keeps each row's columns sorted
@@ -161,22 +166,20 @@ class PetscKsp final : public LinearSolver {
         sorted_ = std::is_sorted(inner + outer[i], inner + outer[i + 1]);
       padded_ = np;
       bs_ = bs;
-      // The padded CSR arrays: identity rows after the last.
-      std::vector<PetscInt> i_pad(outer_.begin(), outer_.end()), j_pad(inner_.begin(), inner_.end());
-      std::vector<PetscScalar> v_pad(values, values + nnz);
-      for (Index i = n; i < np; ++i) {
-        j_pad.push_back(static_cast<PetscInt>(i));
-        v_pad.push_back(1.0);
-        i_pad.push_back(static_cast<PetscInt>(j_pad.size()));
-      }
-      check(MatCreate(PETSC_COMM_SELF, &A_), "MatCreate");
-      check(MatSetSizes(A_, np, np, np, np), "MatSetSizes");
-      check(MatSetType(A_, MATSEQAIJ), "MatSetType");
-      check(MatSetBlockSize(A_, bs), "MatSetBlockSize");
-      check(MatSeqAIJSetPreallocationCSR(A_, i_pad.data(), j_pad.data(), v_pad.data()), "MatSeqAIJSetPreallocationCSR");
-      check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+      // This rank's rows: a contiguous range of whole blocks (all of them on one process).
+      const Index blocks = np / bs;
+      rstart_ = blocks * rank_ / size_ * bs;
+      rend_ = blocks * (rank_ + 1) / size_ * bs;
       configured_ = false;
       nullspace_stale_ = true;
+      if (size_ > 1) {
+        create_distributed(n);
+        set_owned_rows(n, outer, inner, values);
+      } else {
+        create_sequential(n, values);
+      }
+    } else if (size_ > 1) {
+      set_owned_rows(n, outer, inner, values);
     } else if (!sorted_) {
       for (Index i = 0; i < n; ++i) {
         const PetscInt row = static_cast<PetscInt>(i);
@@ -194,6 +197,71 @@ class PetscKsp final : public LinearSolver {
     }
     MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
     if (nullspace_stale_ && s_.type == "gamg") set_near_nullspace(n);
+  }
+
+  // One process: a sequential AIJ matrix from the padded CSR arrays (identity rows after the
+  // last), values included.
+  void create_sequential(Index n, const Real* values) {
+    const Index nnz = outer_[n];
+    std::vector<PetscInt> i_pad(outer_.begin(), outer_.end()), j_pad(inner_.begin(), inner_.end());
+    std::vector<PetscScalar> v_pad(values, values + nnz);
+    for (Index i = n; i < padded_; ++i) {
+      j_pad.push_back(static_cast<PetscInt>(i));
+      v_pad.push_back(1.0);
+      i_pad.push_back(static_cast<PetscInt>(j_pad.size()));
+    }
+    check(MatCreate(PETSC_COMM_SELF, &A_), "MatCreate");
+    check(MatSetSizes(A_, padded_, padded_, padded_, padded_), "MatSetSizes");
+    check(MatSetType(A_, MATSEQAIJ), "MatSetType");
+    check(MatSetBlockSize(A_, bs_), "MatSetBlockSize");
+    check(MatSeqAIJSetPreallocationCSR(A_, i_pad.data(), j_pad.data(), v_pad.data()), "MatSeqAIJSetPreallocationCSR");
+    check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+  }
+
+  void destroy_system() {
+    if (A_) MatDestroy(&A_);
+    if (b_) VecDestroy(&b_);
+    if (x_) VecDestroy(&x_);
+    if (x_all_) VecDestroy(&x_all_);
+    if (gather_) VecScatterDestroy(&gather_);
+  }
+
+  // Several ranks: every rank holds the whole system (assembled redundantly) and gives PETSc
+  // its own rows [rstart_, rend_) of a distributed AIJ matrix, preallocated exactly from the
+  // pattern (columns inside its range: the diagonal block).
+  void create_distributed(Index n) {
+    const Index nloc = rend_ - rstart_;
+    std::vector<PetscInt> d_nnz(static_cast<size_t>(nloc), 0), o_nnz(static_cast<size_t>(nloc), 0);
+    for (Index i = rstart_; i < rend_; ++i) {
+      if (i >= n) {
+        d_nnz[i - rstart_] = 1;
+        continue;
+      }
+      for (int k = outer_[i]; k < outer_[i + 1]; ++k)
+        (inner_[k] >= rstart_ && inner_[k] < rend_ ? d_nnz : o_nnz)[i - rstart_]++;
+    }
+    check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
+    check(MatSetSizes(A_, nloc, nloc, padded_, padded_), "MatSetSizes");
+    check(MatSetType(A_, MATMPIAIJ), "MatSetType");
+    check(MatSetBlockSize(A_, bs_), "MatSetBlockSize");
+    check(MatMPIAIJSetPreallocation(A_, 0, d_nnz.data(), 0, o_nnz.data()), "MatMPIAIJSetPreallocation");
+    check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+    check(VecScatterCreateToAll(x_, &gather_, &x_all_), "VecScatterCreateToAll");
+  }
+
+  void set_owned_rows(Index n, const int* outer, const int* inner, const Real* values) {
+    for (Index i = rstart_; i < rend_; ++i) {
+      const PetscInt row = static_cast<PetscInt>(i);
+      if (i >= n) {
+        const PetscScalar one = 1.0;
+        check(MatSetValues(A_, 1, &row, 1, &row, &one, INSERT_VALUES), "MatSetValues");
+        continue;
+      }
+      check(MatSetValues(A_, 1, &row, outer[i + 1] - outer[i], inner + outer[i], values + outer[i], INSERT_VALUES),
+            "MatSetValues");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
   }
 
   // The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
@@ -246,11 +314,11 @@ class PetscKsp final : public LinearSolver {
       check(MatCreateVecs(A_, &vecs[k], nullptr), "MatCreateVecs");
       PetscScalar* p = nullptr;
       VecGetArray(vecs[k], &p);
-      std::copy(basis[k].data(), basis[k].data() + padded_, p);
+      std::copy(basis[k].data() + rstart_, basis[k].data() + rend_, p);
       VecRestoreArray(vecs[k], &p);
     }
     MatNullSpace space = nullptr;
-    check(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space),
+    check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space),
           "MatNullSpaceCreate");
     check(MatSetNearNullSpace(A_, space), "MatSetNearNullSpace");
     MatNullSpaceDestroy(&space);
@@ -258,7 +326,7 @@ class PetscKsp final : public LinearSolver {
   }
 
   void configure() {
-    if (!ksp_) check(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
     check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
     if (configured_) return;
     PC pc = nullptr;
@@ -290,7 +358,10 @@ class PetscKsp final : public LinearSolver {
   std::shared_ptr<const UnknownLayout> layout_;
   bool symmetric_ = true, configured_ = false, nullspace_stale_ = true, sorted_ = true;
   Mat A_ = nullptr;
-  Vec b_ = nullptr, x_ = nullptr;
+  Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
+  VecScatter gather_ = nullptr;
+  int size_ = 1, rank_ = 0;
+  Index rstart_ = 0, rend_ = 0;  // this rank's rows
   KSP ksp_ = nullptr;
   Index padded_ = 0;
   int bs_ = 1, iterations_ = 0;
@@ -299,6 +370,25 @@ class PetscKsp final : public LinearSolver {
 };
 
 }  // namespace
+
+int petsc_world_size() {
+  PetscBool done = PETSC_FALSE;
+  PetscInitialized(&done);
+  if (!done) return 1;
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  return size;
+}
+
+MpiInfo start_petsc_if_launched_by_mpi() {
+  MpiInfo info;
+  info.size = launched_ranks();
+  if (info.size <= 1) return info;  // PETSc starts later, on first use
+  ensure_petsc();
+  MPI_Comm_size(PETSC_COMM_WORLD, &info.size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &info.rank);
+  return info;
+}
 
 std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& settings) {
   return std::make_unique<PetscKsp>(settings);

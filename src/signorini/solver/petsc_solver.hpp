@@ -21,4 +21,16 @@ std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& sett
 // main when they were started (a no-op otherwise).
 void finalize_petsc();
 
+// Several MPI ranks (mpirun -np N): every rank reads the deck, assembles the whole system and
+// runs the same Newton iterations; the PETSc solvers distribute the linear solve over the
+// ranks (each gives PETSc its own block of rows) and give every rank the whole solution.
+// Only rank 0 writes files and prints. Started at the beginning of main when the process was
+// launched by mpirun (launched_ranks() > 1).
+struct MpiInfo {
+  int rank = 0, size = 1;
+};
+MpiInfo start_petsc_if_launched_by_mpi();
+// Ranks of PETSC_COMM_WORLD (1 before PETSc starts).
+int petsc_world_size();
+
 }  // namespace signorini
