@@ -5,8 +5,10 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 EXAMPLE ?= examples/hertz_cylinder/hertz_cylinder.yaml
 CMAKE_FLAGS ?=
+# Debian's Python (numpy, matplotlib, yaml from install-deps), not another one first on PATH.
+PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: deps configure build run test test-long bench clean
+.PHONY: deps configure build run test test-long bench report clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -29,6 +31,10 @@ test-long: build
 bench: build
 	@$(BUILD_DIR)/bench/bench_elasticity --type hex8 --dofs 1000000
 	@$(BUILD_DIR)/bench/bench_elasticity --type tet10 --dofs 1000000
+
+# Every example run, then one HTML page of checks and plots: results/report/index.html.
+report: build
+	@$(PYTHON) scripts/report.py --build $(BUILD_DIR) --out results/report
 
 clean:
 	rm -rf $(BUILD_DIR)
