@@ -840,7 +840,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
     read_solver(top.child("solver"), registry, m);
     // Algebraic multigrid cannot take the multipliers' saddle point: they must be condensed.
     const std::string& t = m.linear_solver.type;
-    const bool amg = t == "gamg" || t == "hypre";
+    const bool amg = is_amg_solver(t);
     const bool multipliers = std::any_of(m.contacts.begin(), m.contacts.end(),
                                          [](const ContactPairSettings& c) { return c.method == "lagrange"; });
     if (amg && multipliers && !m.newton.condense_contact)

@@ -14,7 +14,7 @@ class SerialBackend final : public AlgebraBackend {
   SerialBackend(const LinearSolverSettings& linear, bool three_d)
       : linear_name_(linear.type),
         linear_(linear, three_d),
-        condensed_(amg(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
+        condensed_(is_amg_solver(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
   std::string name() const override { return "serial"; }
   Index owned_begin() const override { return 0; }
   Index owned_end() const override { return rows(); }
@@ -44,16 +44,16 @@ class SerialBackend final : public AlgebraBackend {
     // a saddle-point system): the condensed system when its structure allows
     // (condensed_solve.hpp); another solver chosen in the deck gets the whole system.
     last_iterations_ = 0;
-    if (q.is_multiplier && !q.condense_contact && amg(linear_name_))
+    if (q.is_multiplier && !q.condense_contact && is_amg_solver(linear_name_))
       throw FatalModelError("linear solver " + linear_name_ + " with condense_contact: false: algebraic multigrid "
                             "cannot take the contact multipliers' saddle point (condense them, or use enforcement: "
                             "penalty, or linear: mumps or umfpack)");
-    if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || amg(linear_name_))) {
+    if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || is_amg_solver(linear_name_))) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
         return "condensed+" + condensed_.last_used();
       }
-      if (amg(linear_name_))
+      if (is_amg_solver(linear_name_))
         throw FatalModelError("linear solver " + linear_name_ + " cannot solve this contact system: " +
                           condensed_.why_not() +
                           ", and algebraic multigrid cannot take the contact multipliers' saddle point (use "
@@ -69,7 +69,6 @@ class SerialBackend final : public AlgebraBackend {
   }
 
  private:
-  static bool amg(const std::string& name) { return name == "gamg" || name == "hypre"; }
   std::string linear_name_;
   int last_iterations_ = 0;
   SparseSystem system_;

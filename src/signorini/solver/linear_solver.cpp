@@ -107,7 +107,7 @@ int parallel_ranks() {
 }
 
 bool is_petsc_solver(const std::string& name) {
-  return name == "gamg" || name == "hypre" || name == "mumps" || name == "petsc";
+  return is_amg_solver(name) || name == "mumps" || name == "petsc";
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings) {

@@ -56,8 +56,10 @@ class LinearSolver {
 };
 
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings);
-// Whether a solver name is an algebraic-multigrid or other PETSc solver.
+// Whether a solver name is a PETSc solver; and an algebraic-multigrid one (gamg, hypre),
+// which needs the unknowns' layout and cannot take the multipliers' saddle point.
 bool is_petsc_solver(const std::string& name);
+inline bool is_amg_solver(const std::string& name) { return name == "gamg" || name == "hypre"; }
 // Whether this build has PETSc (SIGNORINI_WITH_PETSC).
 bool petsc_available();
 // The number of processes mpirun (OpenMPI or MPICH) launched this one among (1 otherwise),

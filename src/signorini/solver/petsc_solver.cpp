@@ -59,7 +59,7 @@ class PetscKsp final : public LinearSolver {
     layout_ = std::move(layout);
     nullspace_stale_ = true;
   }
-  bool wants_layout() const override { return s_.type == "gamg" || s_.type == "hypre"; }
+  bool wants_layout() const override { return is_amg_solver(s_.type); }
   int iterations() const override { return iterations_; }
   std::string failure() const override { return failure_; }
 
@@ -335,7 +335,7 @@ class PetscKsp final : public LinearSolver {
       check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
       check(PCSetType(pc, symmetric_ ? PCCHOLESKY : PCLU), "PCSetType");
       check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-    } else if (s_.type == "gamg" || s_.type == "hypre") {
+    } else if (is_amg_solver(s_.type)) {
       check(KSPSetType(ksp_, symmetric_ ? KSPCG : KSPGMRES), "KSPSetType");
       // rtol on the true residual |b - A x| / |b| (CG's default is the preconditioned one).
       if (symmetric_) KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED);
