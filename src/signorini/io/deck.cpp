@@ -15,6 +15,7 @@
 #include "signorini/contact/surface.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/io/inp_reader.hpp"
 #include "signorini/mesh/gmsh_reader.hpp"
 
 namespace signorini {
@@ -28,16 +29,28 @@ struct Node {
   YAML::Node node;
   std::string file;
   std::string path;  // dotted key path
+  // A deck translated from an .inp: origin[line] is "file:line\t*KEYWORD" of the .inp card
+  // that wrote that YAML line, so that messages name the user's file, line and keyword.
+  const std::vector<std::string>* origin = nullptr;
 
+  const std::string* origin_of() const {
+    const auto m = node.Mark();
+    return origin && m.line >= 0 && static_cast<size_t>(m.line) < origin->size() ? &(*origin)[m.line] : nullptr;
+  }
   std::string where() const {
+    if (const std::string* o = origin_of()) return o->substr(0, o->find('\t'));
     const auto m = node.Mark();
     return m.line >= 0 ? file + ":" + std::to_string(m.line + 1) : file;
   }
-  [[noreturn]] void fail(const std::string& what) const { throw InputError(where(), path, what); }
-  Node child(const std::string& key) const {
-    return {node[key], file, path.empty() ? key : path + "." + key};
+  [[noreturn]] void fail(const std::string& what) const {
+    if (const std::string* o = origin_of(); o && o->find('\t') != std::string::npos)
+      throw InputError(where(), o->substr(o->find('\t') + 1), what + " (in the deck translated from it, at '" + path + "')");
+    throw InputError(where(), path, what);
   }
-  Node at(size_t i) const { return {node[i], file, path + "[" + std::to_string(i) + "]"}; }
+  Node child(const std::string& key) const {
+    return {node[key], file, path.empty() ? key : path + "." + key, origin};
+  }
+  Node at(size_t i) const { return {node[i], file, path + "[" + std::to_string(i) + "]", origin}; }
   bool has(const std::string& key) const { return node.IsMap() && node[key].IsDefined() && !node[key].IsNull(); }
 
   void expect_map() const {
@@ -54,7 +67,7 @@ struct Node {
       if (!spec.param(k)) {
         std::string allowed;
         for (auto& p : spec.params) allowed += (allowed.empty() ? "" : ", ") + p.name;
-        Node bad{it->first, file, path.empty() ? k : path + "." + k};
+        Node bad{it->first, file, path.empty() ? k : path + "." + k, origin};
         bad.fail("unknown key '" + k + "' in " + spec.name + " (allowed: " + allowed + ")");
       }
     }
@@ -157,7 +170,7 @@ void read_analysis(const Node& n, const Registry& r, Model& m) {
     n.child("thickness").fail("thickness applies to plane_strain and plane_stress only");
 }
 
-void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
+void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep, Mesh* preread) {
   const TypeSpec& spec = deck_spec(r, "mesh");
   n.check_keys(spec);
   GmshOptions opt;
@@ -174,7 +187,11 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep) {
   opt.trusted = n.has("trusted") && n.child("trusted").as_bool();
   fs::path file = n.child("file").as_string();
   if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
-  m.mesh = read_gmsh(file.string(), opt);
+  std::string ext = file.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (preread) m.mesh = std::move(*preread);
+  else if (ext == ".inp") m.mesh = read_inp_mesh(file.string());
+  else m.mesh = read_gmsh(file.string(), opt);
   if (const Real scale = n.number(spec, "scale"); scale != 1)
     for (Vec3& x : m.mesh.nodes) x *= scale;
   const int dim = m.settings.spatial_dim();
@@ -809,7 +826,18 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   if (!fs::exists(path)) throw InputError(path, "", "deck file does not exist");
   if (fs::is_directory(path)) throw InputError(path, "", "is a directory, not a deck file");
   YAML::Node root;
-  try {
+  std::string ext = fs::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  std::optional<InpDeck> inp;
+  if (ext == ".inp") {
+    inp = read_inp(path);
+    try {
+      root = YAML::Load(inp->yaml);
+    } catch (const YAML::Exception& e) {
+      throw Error(std::string("internal: the deck translated from ") + path + " is not valid YAML: " + e.what());
+    }
+    log::debug("deck translated from {}:\n{}", path, inp->yaml);
+  } else try {
     root = YAML::LoadFile(path);
   } catch (const YAML::ParserException& e) {
     std::ifstream in(path);
@@ -821,7 +849,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
     throw InputError(path, "", std::string("cannot read the deck: ") + e.what());
   }
   reject_duplicate_keys(root, path, "");
-  Node top{root, path, ""};
+  Node top{root, path, "", inp ? &inp->origin : nullptr};
   if (!root.IsMap()) throw InputError(path, "", "a deck is a mapping of sections (title, analysis, mesh, ...)");
   top.check_keys(deck_spec(registry, "deck"));
   Model m;
@@ -829,7 +857,7 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   m.title = top.has("title") ? top.child("title").as_string() : fs::path(path).stem().string();
   DeckReport rep;
   read_analysis(top.child("analysis"), registry, m);
-  read_mesh(top.child("mesh"), registry, m, rep);
+  read_mesh(top.child("mesh"), registry, m, rep, inp ? &inp->mesh : nullptr);
   read_materials_and_bodies(top.child("materials"), top.child("bodies"), registry, m);
   Node steps = top.child("steps");
   steps.expect_list();
