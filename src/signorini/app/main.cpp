@@ -46,6 +46,15 @@ void print_model(const Model& m, const DeckReport& rep) {
       fmt::print("  body       {}: {} cells ({}), material {} (E = {:g})\n", b->name(), b->num_cells(), types,
                  b->material().model(), b->material().stiffness_scale());
   }
+  for (auto& c : m.contacts) {
+    std::string enf = c.method;
+    if (c.method != "lagrange") enf += c.penalty > 0 ? fmt::format(" (penalty {:g})", c.penalty) : " (penalty auto)";
+    const std::string fr = c.friction == "coulomb" ? fmt::format(", Coulomb mu = {:g}", c.friction_parameter)
+                           : c.friction == "tresca" ? fmt::format(", Tresca bound {:g}", c.friction_parameter)
+                                                    : ", frictionless";
+    fmt::print("  contact    {}: slave {} on {} {}, {}, {}\n", c.name, c.slave, c.rigid ? "rigid" : "master",
+               c.rigid ? c.obstacle.shape : c.master, c.rigid ? "node_to_surface" : c.discretization, enf + fr);
+  }
   for (auto& s : m.steps)
     fmt::print("  step       {}: {} Dirichlet conditions, {} loads, increments {:g} [{:g}, {:g}]\n", s.name,
                s.dirichlet.size(), s.loads.size(), s.initial_increment, s.min_increment, s.max_increment);

@@ -214,7 +214,7 @@ void register_deck_sections(Registry& r) {
           choice("kinematics", "small strain, or finite strain (total Lagrangian)", {"small_strain", "finite_strain"},
                  "small_strain"),
           number("thickness", "out-of-plane thickness (plane strain and plane stress)", "1", 0, INFINITY, true)}});
-  r.add({"deck", "mesh", "The mesh: a Gmsh .msh (2.2 or 4.1) or a .geo meshed at run time.",
+  r.add({"deck", "mesh", "The mesh: a Gmsh .msh (2.2 or 4.1), a .geo meshed at run time, or the mesh of a CalculiX/Abaqus .inp.",
          {text("file", "path, relative to the deck", std::nullopt),
           opt(text("parameters", ".geo constants declared with DefineConstant[...]: name -> number", std::nullopt,
                    ParamKind::any)),
