@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/mesh/gmsh_reader.hpp"
 
@@ -439,4 +440,25 @@ TEST(Deck, LinearSolverSettings) {
                  "linear_key.yaml:15", "solver.linear.tolerance", "allowed: type, rtol, options");
   EXPECT_MESSAGE(error_of("linear_rtol", kGood + "solver: {linear: {type: umfpack, rtol: 2}}\n"),
                  "linear_rtol.yaml:15", "solver.linear.rtol");
+}
+
+// Issue 17, item 5: a .geo asked to mesh far too finely stops within seconds with the
+// estimated element count (mesh.max_elements), instead of meshing forever. The estimate
+// itself: the unit square's 100 x 100 quads (10000 cells and the 400 lines of its physical curves) is
+// estimated from coarser meshes within a factor 2.
+TEST(Deck, MeshSizeGuard) {
+  const std::string geo = std::string(SIGNORINI_TEST_DATA) + "/square.geo";
+  const std::string exe = "/usr/bin/gmsh";
+  if (!fs::exists(exe)) GTEST_SKIP() << "no gmsh executable";
+  int dim = 0;
+  EXPECT_EQ(count_elements(exe, geo, {"-setnumber", "h", "0.01"}, 1, 60, &dim), 10400);
+  EXPECT_EQ(dim, 2);
+  const double est = estimate_elements(exe, geo, {"-setnumber", "h", "0.01"});
+  EXPECT_GT(est, 0.5 * 10400);
+  EXPECT_LT(est, 2.0 * 10400);
+  log::Timer t;
+  const std::string e = error_of("size_guard", replace(kGood, "mesh: {file: SQUARE}", "mesh: {file: SQUARE, parameters: {h: 1e-6}}"));
+  EXPECT_NE(e.find("'mesh.max_elements'"), std::string::npos) << e;
+  EXPECT_NE(e.find("e+12 elements"), std::string::npos) << e;  // (1 / 1e-6)^2 quadrilaterals
+  EXPECT_LT(t.seconds(), 30);
 }

@@ -88,3 +88,27 @@ TEST(Interrupt, FailedAttemptsIterationsAreCounted) {
   // The attempts of the last (abandoned) increment are in the total but in no increment.
   EXPECT_GT(s.failed_iterations, per_increment);
 }
+
+// Issue 17, item 5: a load in the wrong units (5e30 for 5) is solved at small strain, but the
+// answer's displacements dwarf the model, and the run says so (the command prints it).
+TEST(Interrupt, DisplacementsLargerThanTheModelAreReported) {
+  namespace fs = std::filesystem;
+  log::set_level(log::Level::warning);
+  const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "cantilever_3d" / "cantilever_3d.yaml";
+  std::string deck = read(src);
+  deck.insert(deck.find("file: ") + 6, (src.parent_path() / "").string());
+  for (const std::string& load : {"-1", "-5e30"}) {
+    std::string d = deck;
+    d.replace(d.find("traction: [0, -1, 0]"), 20, "traction: [0, " + load + ", 0]");
+    const fs::path p = fs::temp_directory_path() / ("signorini_oversized_" + std::to_string(::getpid()) + ".yaml");
+    std::ofstream(p) << d;
+    Registry r = default_registry();
+    Model m = read_deck(p.string(), r);
+    fs::remove(p);
+    Analysis a(m);
+    ASSERT_TRUE(a.run().completed);
+    const std::string w = oversized_displacement(a);
+    if (load == "-1") EXPECT_EQ(w, "");
+    else EXPECT_NE(w.find("is larger than the model"), std::string::npos) << w;
+  }
+}

@@ -65,6 +65,7 @@ void print_model(const Model& m, const DeckReport& rep) {
 int run(const std::string& deck, const std::string& outdir, bool check_only, const std::string& restart, int rank) {
   const Registry registry = default_registry();
   DeckReport rep;
+  install_interrupt_handlers();  // Ctrl-C while a .geo is meshed stops the gmsh process too
   Model model = read_deck(deck, registry, &rep);
   print_model(model, rep);
   if (check_only) {
@@ -105,6 +106,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   auto checks = evaluate_checks(analysis);
   writer.finish(analysis, s, checks);
   fmt::print("\n");
+  if (const std::string w = oversized_displacement(analysis); !w.empty()) log::warning("{}", w);
   if (!s.completed) {
     fmt::print("Analysis {}: {}\n", s.interrupted ? "interrupted" : "gave up", s.failure);
     if (s.increments.empty())
@@ -222,7 +224,7 @@ int main(int argc, char** argv) {
     return run(deck, outdir, check_cmd->parsed(), restart, mpi.rank);
   } catch (const InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
-    return 1;
+    return interrupt_signal() ? 128 + interrupt_signal() : 1;
   } catch (const SolverError& e) {
     fmt::print(stderr, "error: the analysis failed: {}\n", e.what());
     return 2;

@@ -185,6 +185,7 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep, Mesh
   }
   opt.order = static_cast<int>(n.number(spec, "order"));
   opt.trusted = n.has("trusted") && n.child("trusted").as_bool();
+  opt.max_elements = n.number(spec, "max_elements");
   fs::path file = n.child("file").as_string();
   if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
   std::string ext = file.extension().string();

@@ -224,7 +224,10 @@ void register_deck_sections(Registry& r) {
                  "1", 1e-300, 1e300),
           text("trusted", "run the .geo's side effects (SystemCall, Exit, Save, Print, OnelabRun, Include or Merge "
                           "of files outside its folder), which are refused otherwise",
-               "false", ParamKind::boolean)}});
+               "false", ParamKind::boolean),
+          number("max_elements", "a .geo whose meshing takes more than 5 s has its element count estimated (from "
+                                 "coarser meshes of it); above this many elements the meshing stops with the estimate",
+                 "20000000", 1, 1e15)}});
   r.add({"deck", "body", "A body: the cells of one region with one material, or rigid.",
          {text("name", "name used in messages and output", std::nullopt),
           text("region", "physical group of cells", std::nullopt),

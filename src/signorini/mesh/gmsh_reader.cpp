@@ -8,6 +8,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <functional>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -24,6 +27,7 @@
 #include <unordered_map>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
 
 namespace signorini {
@@ -127,15 +131,9 @@ std::string find_gmsh_executable() {
   return "";
 }
 
-// Meshes a .geo file in a separate gmsh process, so that a crash of Gmsh's mesher (Gmsh 4.8
-// has some) is reported as an error instead of ending this program. Returns the .msh path.
-std::string mesh_in_child(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
-                          int order, const std::string& where) {
-  namespace fs = std::filesystem;
-  static int counter = 0;
-  const fs::path dir = fs::temp_directory_path();
-  const std::string stem = "signorini_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
-  const std::string msh = (dir / (stem + ".msh")).string(), logf = (dir / (stem + ".log")).string();
+// A gmsh process meshing `geo` into `msh` (format 4.1), its output in `logf`.
+pid_t spawn_gmsh(const std::string& exe, const std::string& geo, const std::vector<std::string>& args, int order,
+                 const std::string& msh, const std::string& logf, const std::string& where) {
   std::vector<std::string> a{exe, geo, "-3", "-format", "msh41", "-o", msh, "-v", "3", "-nt", "1"};
   a.insert(a.end(), args.begin(), args.end());
   if (order > 0) a.insert(a.end(), {"-order", std::to_string(order)});
@@ -151,26 +149,157 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
   const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw InputError(where, "mesh.file", "cannot run " + exe + ": " + std::strerror(rc));
+  return pid;
+}
+
+std::string temp_stem() {
+  static std::atomic<int> counter{0};
+  return (std::filesystem::temp_directory_path() / ("signorini_" + std::to_string(::getpid()) + "_" +
+                                                    std::to_string(counter++))).string();
+}
+
+// Waits for a child for at most `timeout` seconds (< 0: no limit), calling `tick` with the
+// elapsed seconds about 10 times a second; `tick` returning false kills the child. Returns
+// true when the child ended (its status in `status`), false when it was killed.
+bool wait_child(pid_t pid, double timeout, int& status, const std::function<bool(double)>& tick) {
+  log::Timer t;
+  while (true) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) return true;
+    if ((timeout >= 0 && t.seconds() > timeout) || (tick && !tick(t.seconds()))) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return false;
+    }
+    ::usleep(100000);
+  }
+}
+
+// Element count and dimension of a .msh 4.1 file (from its $Elements blocks' headers).
+double msh_elements(const std::string& msh, int* dim) {
+  std::ifstream in(msh);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("$Elements", 0) == 0) break;
+  std::size_t blocks = 0, total = 0, lo = 0, hi = 0;
+  if (!(in >> blocks >> total >> lo >> hi)) return -1;
+  int d = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    int edim = 0, tag = 0, type = 0;
+    std::size_t n = 0;
+    if (!(in >> edim >> tag >> type >> n)) return -1;
+    d = std::max(d, edim);
+    std::getline(in, line);
+    for (std::size_t i = 0; i < n; ++i) std::getline(in, line);
+  }
+  if (dim) *dim = d;
+  return static_cast<double>(total);
+}
+
+// Meshes a .geo file in a separate gmsh process, so that a crash of Gmsh's mesher (Gmsh 4.8
+// has some) is reported as an error instead of ending this program. Returns the .msh path.
+// A meshing that takes more than 5 s has its size estimated (estimate_elements) and stops
+// above `max_elements`; otherwise it reports its progress every 10 s.
+std::string mesh_in_child(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
+                          int order, const std::string& where, double max_elements) {
+  namespace fs = std::filesystem;
+  const std::string stem = temp_stem();
+  const std::string msh = stem + ".msh", logf = stem + ".log";
+  const pid_t pid = spawn_gmsh(exe, geo, args, order, msh, logf, where);
+  double estimate = -1, last_report = 0;
+  std::string refused;
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  const bool ended = wait_child(pid, -1, status, [&](double t) {
+    if (interrupt_signal()) {
+      refused = "interrupted";
+      return false;
+    }
+    if (t > 5 && estimate < 0) {
+      log::info("meshing '{}' takes a while: estimating its size from coarser meshes", geo);
+      estimate = std::max(0.0, estimate_elements(exe, geo, args));
+      if (estimate > max_elements) {
+        refused = fmt::format(
+            "meshing '{}' would make about {:.3g} elements (estimated from coarser meshes of it), more than "
+            "mesh.max_elements = {:.3g}: make the mesh coarser (its size parameters) or raise max_elements",
+            geo, estimate, max_elements);
+        return false;
+      }
+      log::info("meshing '{}': about {:.3g} elements expected", geo, estimate);
+      last_report = t;
+    }
+    if (estimate >= 0 && t - last_report >= 10) {
+      log::info("meshing '{}': {:.0f} s", geo, t);
+      last_report = t;
+    }
+    return true;
+  });
   std::ifstream lg(logf);
   std::string line, errors;
   while (std::getline(lg, line))
     if (line.find("Error") != std::string::npos) errors += (errors.empty() ? "" : "; ") + line;
   fs::remove(logf);
-  if (WIFSIGNALED(status))
+  if (!ended) {
+    fs::remove(msh);
+    if (refused == "interrupted") throw InputError(where, "mesh.file", "meshing '" + geo + "' interrupted");
+    throw InputError(where, "mesh.max_elements", refused);
+  }
+  if (WIFSIGNALED(status)) {
+    fs::remove(msh);
+    const double n = estimate >= 0 ? estimate : estimate_elements(exe, geo, args);
+    if (n > max_elements)
+      throw InputError(where, "mesh.max_elements",
+                       fmt::format("Gmsh stopped (signal {}) meshing '{}', which would make about {:.3g} elements "
+                                   "(estimated from coarser meshes of it), more than mesh.max_elements = {:.3g}: make "
+                                   "the mesh coarser (its size parameters)",
+                                   WTERMSIG(status), geo, n, max_elements));
     throw InputError(where, "mesh.file",
                      "Gmsh crashed (signal " + std::to_string(WTERMSIG(status)) + ") while meshing '" + geo +
                          "'. This is a Gmsh bug; another Mesh.Algorithm in the .geo usually avoids it" +
                          (errors.empty() ? "" : " (" + errors + ")"));
+  }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !errors.empty() || !fs::exists(msh)) {
     fs::remove(msh);
     throw InputError(where, "mesh.file", "Gmsh could not mesh '" + geo + "': " + (errors.empty() ? "no mesh written" : errors));
   }
+  if (estimate >= 0) log::info("meshed '{}': {:.0f} elements", geo, msh_elements(msh, nullptr));
   return msh;
 }
 
 }  // namespace
+
+double count_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
+                      double size_factor, double timeout, int* dim) {
+  const std::string stem = temp_stem();
+  const std::string msh = stem + ".msh", logf = stem + ".log";
+  std::vector<std::string> a = args;
+  std::ostringstream f;
+  f.precision(17);
+  f << size_factor;
+  a.insert(a.end(), {"-clscale", f.str()});
+  const pid_t pid = spawn_gmsh(exe, geo, a, 0, msh, logf, geo);
+  int status = 0;
+  const bool ended = wait_child(pid, timeout, status, nullptr);
+  double n = -1;
+  if (ended && WIFEXITED(status) && WEXITSTATUS(status) == 0) n = msh_elements(msh, dim);
+  std::filesystem::remove(msh);
+  std::filesystem::remove(logf);
+  return n;
+}
+
+double estimate_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args) {
+  double previous = -1, s = std::pow(4.0, 20);
+  int dim = 3;
+  while (s >= 1) {
+    const double n = count_elements(exe, geo, args, s, 20, &dim);
+    if (n < 0) return previous >= 0 ? previous * std::pow(4.0, dim) * std::pow(s, dim) : INFINITY;  // too slow
+    if (n >= 2000 || s == 1) return n * std::pow(s, dim);
+    // Saturated (every size beyond the geometry's): larger strides until the count moves.
+    s /= n == previous ? 16 : 4;
+    if (s < 1) s = 1;
+    previous = n;
+  }
+  return previous;
+}
 
 std::string geo_side_effect(const std::string& t) {
   static const std::set<std::string> refused = {"SystemCall", "Exit", "Save", "Print", "OnelabRun"};
@@ -269,7 +398,7 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   std::string to_read = path, generated;
   const std::string exe = ext == ".geo" ? find_gmsh_executable() : "";
   if (!exe.empty()) {
-    generated = mesh_in_child(exe, path, args, options.order, where);
+    generated = mesh_in_child(exe, path, args, options.order, where, options.max_elements);
     to_read = generated;
     args.clear();
   }

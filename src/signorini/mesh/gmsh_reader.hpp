@@ -13,7 +13,18 @@ struct GmshOptions {
   int order = 0;                           // element order to set after meshing (0: as is)
   std::string where;                       // deck location for error messages
   bool trusted = false;                    // run a .geo's side effects (geo_side_effect)
+  double max_elements = 2e7;               // a .geo meshing beyond this (estimated) stops with an error
 };
+
+// The elements of a .geo meshed with every size multiplied by `size_factor` (Gmsh's
+// -clscale), counted by a gmsh process `exe`; -1 if that meshing failed or took more than
+// `timeout` seconds. `dim` receives the mesh's dimension.
+double count_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
+                      double size_factor, double timeout, int* dim);
+
+// The element count of the .geo's mesh, estimated from coarser meshes of it (sizes scaled by
+// 4^k, from 4^20 down, until one has 2000 elements or more: N(1) ~ N(s) s^dim).
+double estimate_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args);
 
 // The first side effect of a .geo script outside plain geometry and meshing, as a message
 // naming its line ("" if none): SystemCall, Exit, Save, Print, OnelabRun, and Include or Merge

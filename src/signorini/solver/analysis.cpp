@@ -910,4 +910,27 @@ std::vector<std::string> Analysis::reaction_sets() const {
   return v;
 }
 
+std::string oversized_displacement(const Analysis& a) {
+  const Model& m = a.model();
+  if (m.settings.finite_strain || m.mesh.nodes.empty()) return "";
+  Vec3 lo = m.mesh.nodes[0], hi = lo;
+  for (const Vec3& x : m.mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const Real size = (hi - lo).norm();
+  Real umax = 0;
+  Index at = -1;
+  const DofMap& d = a.dofs();
+  for (Index n = 0; n < m.mesh.num_nodes(); ++n) {
+    if (!d.has_dofs(n)) continue;
+    Real u2 = 0;
+    for (int c = 0; c < d.dofs_per_node(); ++c) u2 += std::pow(a.displacement()(d.dof(n, c)), 2);
+    if (!(std::sqrt(u2) <= umax)) umax = std::sqrt(u2), at = n;  // NaN counts as large
+  }
+  if (at < 0 || umax <= size) return "";
+  return fmt::format("the largest displacement, {:.3g} at node {}, is larger than the model ({:.3g} across): a "
+                     "small-strain answer is then meaningless; check the magnitude and units of the loads and "
+                     "prescribed displacements",
+                     umax, m.mesh.node_ids[at], size);
+}
+
 }  // namespace signorini
+

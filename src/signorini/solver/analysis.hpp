@@ -189,4 +189,8 @@ class Analysis {
   int first_step_ = 0;  // set by read_restart
 };
 
+// A small-strain answer whose displacements are larger than the model itself is meaningless
+// (a load in the wrong units: 5e30 for 5). Returns the warning, naming the node, or "".
+std::string oversized_displacement(const Analysis& a);
+
 }  // namespace signorini
