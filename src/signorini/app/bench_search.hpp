@@ -13,6 +13,9 @@ struct BenchSearchOptions {
   std::string method;      // empty: every fast method
   Index check_subset = 2000;
   int repeats = 2;         // the second build+query models re-detection in a later increment
+  std::string slave_file;  // Gmsh .msh: its nodes are the slave nodes (instead of generated ones)
+  std::string master_file; // Gmsh .msh: its triangles and quadrilaterals are the master facets
+  std::string write_dir;   // write the surfaces searched as slave.msh and master.msh there
 };
 
 // Returns 0 when every method agrees with all-to-all on the subset, 1 otherwise.

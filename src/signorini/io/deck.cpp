@@ -314,8 +314,9 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
   for (size_t i = 0; i < m.bodies.size(); ++i)
     for (auto& blk : m.bodies[i]->blocks())
       for (Index n : blk.conn) {
-        auto [it, fresh] = owner.emplace(n, m.bodies[i]->name());
-        if (!fresh && it->second != m.bodies[i]->name() && (m.bodies[i]->rigid() || [&] {
+        const auto placed = owner.emplace(n, m.bodies[i]->name());
+        const auto it = placed.first;
+        if (!placed.second && it->second != m.bodies[i]->name() && (m.bodies[i]->rigid() || [&] {
               for (auto& o : m.bodies)
                 if (o->name() == it->second) return o->rigid();
               return false;

@@ -1033,9 +1033,10 @@ void Translator::build_mesh(bool deck) {
         std::vector<Index> fn;
         for (int i : f->nodes) all_in = all_in && in[nodes[i]], fn.push_back(nodes[i]);
         if (!all_in) continue;
-        auto b = std::find_if(blocks.begin(), blocks.end(), [&](const ElementBlock& x) { return x.type == f->type; });
+        const ElementType ft = f->type;
+        auto b = std::find_if(blocks.begin(), blocks.end(), [&](const ElementBlock& x) { return x.type == ft; });
         if (b == blocks.end()) {
-          blocks.push_back(ElementBlock{f->type, {}, {}});
+          blocks.push_back(ElementBlock{ft, {}, {}});
           b = blocks.end() - 1;
         }
         b->add(fn, eid_[e] * 10 + static_cast<Index>(f - element_info(etype_[e]).facets.data()) + 1);

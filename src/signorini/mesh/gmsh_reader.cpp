@@ -132,9 +132,10 @@ std::string find_gmsh_executable() {
 }
 
 // A gmsh process meshing `geo` into `msh` (format 4.1), its output in `logf`.
+// `mesh_it` false: only read the file and write it again (a .msh checked in a process of its own).
 pid_t spawn_gmsh(const std::string& exe, const std::string& geo, const std::vector<std::string>& args, int order,
-                 const std::string& msh, const std::string& logf, const std::string& where) {
-  std::vector<std::string> a{exe, geo, "-3", "-format", "msh41", "-o", msh, "-v", "3", "-nt", "1"};
+                 const std::string& msh, const std::string& logf, const std::string& where, bool mesh_it = true) {
+  std::vector<std::string> a{exe, geo, mesh_it ? "-3" : "-save", "-format", "msh41", "-o", msh, "-v", "3", "-nt", "1"};
   a.insert(a.end(), args.begin(), args.end());
   if (order > 0) a.insert(a.end(), {"-order", std::to_string(order)});
   std::vector<char*> argv;
@@ -267,6 +268,30 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
 
 }  // namespace
 
+void check_msh_in_child(const std::string& exe, const std::string& msh, const std::string& where) {
+  namespace fs = std::filesystem;
+  const std::string logf = temp_stem() + ".log";
+  const pid_t pid = spawn_gmsh(exe, msh, {}, 0, "/dev/null", logf, where, false);
+  // Reading takes about a second per 10 MB; a malformed count must not hang the run.
+  const double limit = 20 + static_cast<double>(fs::file_size(msh)) / 5e6;
+  int status = 0;
+  const bool ended = wait_child(pid, limit, status, [](double) { return interrupt_signal() == 0; });
+  std::ifstream lg(logf);
+  std::string line, errors;
+  while (std::getline(lg, line))
+    if (line.find("Error") != std::string::npos) errors += (errors.empty() ? "" : "; ") + line;
+  fs::remove(logf);
+  if (!ended)
+    throw InputError(where, "mesh.file", interrupt_signal() ? "reading '" + msh + "' interrupted"
+                                                            : fmt::format("Gmsh did not finish reading '{}' in {:.0f} s "
+                                                                          "(a malformed count?)", msh, limit));
+  if (WIFSIGNALED(status))
+    throw InputError(where, "mesh.file", fmt::format("Gmsh crashed (signal {}) reading '{}': the file is malformed{}",
+                                                     WTERMSIG(status), msh, errors.empty() ? "" : " (" + errors + ")"));
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !errors.empty())
+    throw InputError(where, "mesh.file", "Gmsh cannot read '" + msh + "': " + (errors.empty() ? "it stopped with an error" : errors));
+}
+
 double count_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
                       double size_factor, double timeout, int* dim) {
   const std::string stem = temp_stem();
@@ -396,8 +421,9 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   // A .geo is meshed by the gmsh program when it is installed (a crash of its mesher then
   // cannot take this process down), else in this process through the API.
   std::string to_read = path, generated;
-  const std::string exe = ext == ".geo" ? find_gmsh_executable() : "";
-  if (!exe.empty()) {
+  const std::string exe = find_gmsh_executable();
+  if (!exe.empty() && ext == ".msh") check_msh_in_child(exe, path, where);
+  if (!exe.empty() && ext == ".geo") {
     generated = mesh_in_child(exe, path, args, options.order, where, options.max_elements);
     to_read = generated;
     args.clear();
@@ -408,6 +434,8 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
       if (!file.empty()) std::filesystem::remove(file);
     }
   } cleanup{generated};
+  // A .msh was read by a gmsh process first (check_msh_in_child): a malformed file that
+  // crashes or hangs Gmsh's parser, or leaks in it, does so there.
   std::lock_guard<std::mutex> lock(g_gmsh_mutex);
   GmshSession session(args);
   Mesh mesh;
@@ -490,6 +518,45 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
   // Drop nodes that no cell uses? They stay (a physical point may name one); they get no
   // degrees of freedom unless a cell uses them.
   return mesh;
+}
+
+SurfaceFile read_surface_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::is_regular_file(path)) throw InputError(path, "", "no such file");
+  if (fs::path(path).extension() != ".msh") throw InputError(path, "", "a surface file is a Gmsh .msh");
+  std::lock_guard<std::mutex> lock(g_gmsh_mutex);
+  GmshSession session({});
+  SurfaceFile out;
+  try {
+    gmsh::open(path);
+    std::vector<std::size_t> tags;
+    std::vector<double> coords, param;
+    gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);
+    std::unordered_map<std::size_t, Index> index;
+    index.reserve(tags.size());
+    out.nodes.resize(tags.size());
+    for (size_t i = 0; i < tags.size(); ++i) {
+      index[tags[i]] = static_cast<Index>(i);
+      out.nodes[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+      if (!out.nodes[i].allFinite())
+        throw InputError(path, "", fmt::format("node {} has a non-finite coordinate", tags[i]));
+    }
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> etags, enodes;
+    gmsh::model::mesh::getElements(types, etags, enodes, 2, -1);
+    for (size_t b = 0; b < types.size(); ++b) {
+      const ElementType t = element_type_from_gmsh(types[b]);
+      const ElementInfo& info = element_info(t);
+      std::vector<Vec3>& dst = info.num_corners == 3 ? out.triangles : out.quads;
+      for (size_t e = 0; e < etags[b].size(); ++e)
+        for (int k = 0; k < info.num_corners; ++k) dst.push_back(out.nodes[index.at(enodes[b][e * info.num_nodes + k])]);
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path, "", std::string("Gmsh cannot read it: ") + e.what() + " " + last_gmsh_error());
+  }
+  return out;
 }
 
 }  // namespace signorini

@@ -32,6 +32,20 @@ double estimate_elements(const std::string& exe, const std::string& geo, const s
 // string contents are skipped. A .geo is a program; `signorini check` must not run commands.
 std::string geo_side_effect(const std::string& text);
 
+// A .msh is first read by a gmsh process of its own when the gmsh program is installed
+// (check_msh_in_child): a malformed file that would crash or hang Gmsh's parser is an
+// InputError; then this process reads it.
 Mesh read_gmsh(const std::string& path, const GmshOptions& options = {});
+void check_msh_in_child(const std::string& exe, const std::string& msh, const std::string& where);
+
+// Every node and the corners of every 2D element (triangles, quadrilaterals; mid-side nodes
+// left out) of a Gmsh .msh file, with or without physical groups: the surfaces of the
+// contact search benchmark. Throws InputError naming the file.
+struct SurfaceFile {
+  std::vector<Vec3> nodes;
+  std::vector<Vec3> triangles;  // 3 corners per triangle
+  std::vector<Vec3> quads;      // 4 corners per quadrilateral
+};
+SurfaceFile read_surface_file(const std::string& path);
 
 }  // namespace signorini
