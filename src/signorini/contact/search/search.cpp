@@ -20,22 +20,33 @@ Real point_segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).squaredNorm();
 }
 
-// Squared distance to a triangle: the foot of the perpendicular if it falls inside,
-// otherwise the nearest of the three edges.
+// Squared distance to a triangle, by the Voronoi region of p: a vertex, an edge (one
+// segment projection) or the interior (the distance to the plane). The regions are told
+// apart by the signs of six dot products (Ericson, Real-Time Collision Detection, 2005,
+// sec. 5.1.5); a degenerate (zero-area) triangle falls back to its three edges.
 Real point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();  // vertex a
+  const Vec3 bp = p - b;
+  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();  // vertex b
+  const Real vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (ap - (d1 / (d1 - d3)) * ab).squaredNorm();  // edge ab
+  const Vec3 cp = p - c;
+  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();  // vertex c
+  const Real vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (ap - (d2 / (d2 - d6)) * ac).squaredNorm();  // edge ac
+  const Real va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return (bp - ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)).squaredNorm();  // edge bc
   const Vec3 n = ab.cross(ac);
   const Real n2 = n.squaredNorm();
-  if (n2 > 0) {
-    // Barycentric coordinates of the projection of p on the plane.
-    const Real v = n.dot(ap.cross(ac)) / n2;
-    const Real w = n.dot(ab.cross(ap)) / n2;
-    if (v >= 0 && w >= 0 && v + w <= 1) {
-      const Real d = n.dot(ap);
-      return d * d / n2;
-    }
-  }
-  return std::min({point_segment_distance2(p, a, b), point_segment_distance2(p, b, c), point_segment_distance2(p, c, a)});
+  if (!(va + vb + vc > 0) || !(n2 > 0))
+    return std::min({point_segment_distance2(p, a, b), point_segment_distance2(p, b, c), point_segment_distance2(p, c, a)});
+  const Real d = n.dot(ap);  // interior: the distance to the plane
+  return d * d / n2;
 }
 
 // Per-facet record for the accelerated methods: centroid, bounding radius, id, corners.
@@ -86,11 +97,15 @@ class AllToAll final : public ContactSearch {
 };
 
 // ---- uniform bucket grid ----
-// Facets are binned by centroid (counting sort) into cells of about three mean edge
-// lengths and stored contiguously in cell order. A query starts from the facet closest to
-// the previous point of the same thread (neighbouring nodes have neighbouring answers),
-// then visits only the cells that can still hold a closer facet, pruning facets by their
-// bounding sphere before the exact distance.
+// A grid of columns: the facets are binned by centroid (counting sort) into square columns
+// of about two mean edge lengths across the two axes along which the surface spreads most,
+// and sorted by centroid along the third axis inside each column, so that a query visits
+// only the columns near it and, in each, the slice of facets at its height (a binary
+// search), however much space the surface leaves empty. The records (bounding sphere,
+// corners, id) are stored contiguously in that order. A query starts from the facet closest
+// to the previous point of the same thread (neighbouring nodes have neighbouring answers),
+// then visits only what can still hold a closer facet, pruning by bounding sphere before
+// the exact distance.
 class BucketGrid final : public ContactSearch {
  public:
   std::string name() const override { return "bucket_grid"; }
@@ -99,7 +114,6 @@ class BucketGrid final : public ContactSearch {
     const Index n = f.size();
     // Buffers keep their capacity between builds: re-detection in a later increment
     // allocates nothing.
-    centroid_.resize(n);
     cell_of_.resize(n);
     Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
     Real rmax = 0, edge_sum = 0;
@@ -112,14 +126,11 @@ class BucketGrid final : public ContactSearch {
 #pragma omp parallel for schedule(static)
     for (Index k = 0; k < nb; ++k)
       for (Index i = k * block; i < std::min(n, (k + 1) * block); ++i) {
+        const Vec3 m = centroid(f, i);
         const Vec3* c = f.facet(i);
-        Vec3 m = Vec3::Zero();
-        for (int q = 0; q < f.corners; ++q) m += c[q];
-        m /= f.corners;
         Real r2 = 0;
         for (int q = 0; q < f.corners; ++q) r2 = std::max(r2, (c[q] - m).squaredNorm());
         for (int q = 0; q < edges; ++q) be[k] += (c[(q + 1) % f.corners] - c[q]).norm();
-        centroid_[i] = m;
         blo[k] = blo[k].cwiseMin(m);
         bhi[k] = bhi[k].cwiseMax(m);
         br[k] = std::max(br[k], r2);
@@ -131,51 +142,53 @@ class BucketGrid final : public ContactSearch {
       edge_sum += be[k];
     }
     lo_ = lo;
-    rmax_ = std::sqrt(rmax);
     spheres_.resize(n);
     corner_data_.resize(n * f.corners);
     ids_.resize(n);
-    if (n == 0) return;
-    const Real mean_edge = edge_sum / (static_cast<Real>(n) * edges);
-    cell_ = std::max(3 * mean_edge, 1e-12 * std::max(1.0, (hi - lo_).norm()));
-    for (int d = 0; d < 3; ++d) dims_[d] = std::max<Index>(1, static_cast<Index>((hi(d) - lo_(d)) / cell_) + 1);
-    // Keep the number of cells in proportion to the facets (thin or sparse surfaces).
-    while (dims_[0] * dims_[1] * dims_[2] > 8 * n + 8) {
-      cell_ *= 1.5;
-      for (int d = 0; d < 3; ++d) dims_[d] = std::max<Index>(1, static_cast<Index>((hi(d) - lo_(d)) / cell_) + 1);
-    }
-    const Index ncell = dims_[0] * dims_[1] * dims_[2];
-#pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) cell_of_[i] = cell_index(centroid_[i]);
-    // Counting sort of the facets by cell, then the records written once, in cell order.
-    start_.assign(ncell + 1, 0);
-    for (Index i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
-    for (Index c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
     position_.resize(n);
-    {
-      std::vector<Index>& fill = order_;
-      fill.assign(start_.begin(), start_.end() - 1);
-      for (Index i = 0; i < n; ++i) position_[i] = fill[cell_of_[i]]++;
+    if (n == 0) return;
+    // The sorted axis: the one along which the centroids spread least.
+    const Vec3 ext = hi - lo;
+    axis_ = 0;
+    for (int d = 1; d < 3; ++d)
+      if (ext(d) < ext(axis_)) axis_ = d;
+    u_ = (axis_ + 1) % 3, v_ = (axis_ + 2) % 3;
+    const Real mean_edge = edge_sum / (static_cast<Real>(n) * edges);
+    cell_ = std::max(2 * mean_edge, 1e-12 * std::max(1.0, ext.norm()));
+    auto set_dims = [&] {
+      dims_[0] = std::max<Index>(1, static_cast<Index>(ext(u_) / cell_) + 1);
+      dims_[1] = std::max<Index>(1, static_cast<Index>(ext(v_) / cell_) + 1);
+    };
+    set_dims();
+    // Keep the number of columns in proportion to the facets (thin or sparse surfaces).
+    while (dims_[0] * dims_[1] > 2 * n + 8) {
+      cell_ *= 1.5;
+      set_dims();
     }
+    const Index ncol = dims_[0] * dims_[1];
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      const Index k = position_[i];
-      const Vec3* c = f.facet(i);
-      Sphere& sp = spheres_[k];
-      Vec3 cf;
-      for (int d = 0; d < 3; ++d) {
-        sp.c[d] = static_cast<float>(centroid_[i](d));
-        cf(d) = sp.c[d];
-      }
-      Real r2 = 0;
-      for (int j = 0; j < f.corners; ++j) {
-        corner_data_[k * f.corners + j] = c[j];
-        r2 = std::max(r2, (c[j] - cf).squaredNorm());
-      }
-      // Round the radius up: a float just above the exact value.
-      sp.r = std::nextafter(static_cast<float>(std::sqrt(r2)), std::numeric_limits<float>::infinity());
-      ids_[k] = i;
+    for (Index i = 0; i < n; ++i) cell_of_[i] = column_index(centroid(f, i));
+    // Counting sort of the facets by column (start_ shifted by one during the fill, then back).
+    start_.assign(ncol + 1, 0);
+    for (Index i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
+    for (Index c = 0; c < ncol; ++c) start_[c + 1] += start_[c];
+    for (Index i = 0; i < n; ++i) position_[i] = start_[cell_of_[i]]++;
+    for (Index c = ncol; c > 0; --c) start_[c] = start_[c - 1];
+    start_[0] = 0;
+    // The records, then each column sorted along the axis (its facets are few).
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) write_record(f, i, position_[i]);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (Index c = 0; c < ncol; ++c) {
+      const int a = axis_;
+      for (Index r = start_[c] + 1; r < start_[c + 1]; ++r)  // insertion sort by the axis
+        for (Index q = r; q > start_[c] && spheres_[q].c[a] < spheres_[q - 1].c[a]; --q) swap_records(q, q - 1);
     }
+    float r = 0;
+    for (const Sphere& sp : spheres_) r = std::max(r, sp.r);
+    rmax_ = r;
+#pragma omp parallel for schedule(static)
+    for (Index k = 0; k < n; ++k) position_[ids_[k]] = k;
   }
 
   void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
@@ -193,37 +206,75 @@ class BucketGrid final : public ContactSearch {
   }
 
  private:
-  Index cell_coord(Real x, int d) const {
-    return std::clamp<Index>(static_cast<Index>(std::floor((x - lo_(d)) / cell_)), 0, dims_[d] - 1);
+  // Bounding spheres in single precision (half the memory traffic of the hot loop); the
+  // radius is measured from the rounded centre and rounded up, so pruning stays exact.
+  struct Sphere {
+    float c[3];
+    float r;
+  };
+
+  Vec3 centroid(const SearchFacets& f, Index i) const {
+    const Vec3* c = f.facet(i);
+    Vec3 m = Vec3::Zero();
+    for (int q = 0; q < f.corners; ++q) m += c[q];
+    return m / f.corners;
   }
-  Index cell_index(const Vec3& x) const {
-    return (cell_coord(x(2), 2) * dims_[1] + cell_coord(x(1), 1)) * dims_[0] + cell_coord(x(0), 0);
+  void write_record(const SearchFacets& f, Index i, Index k) {
+    const Vec3* c = f.facet(i);
+    const Vec3 m = centroid(f, i);
+    Sphere& sp = spheres_[k];
+    Vec3 cf;
+    for (int d = 0; d < 3; ++d) {
+      sp.c[d] = static_cast<float>(m(d));
+      cf(d) = sp.c[d];
+    }
+    Real r2 = 0;
+    for (int j = 0; j < f.corners; ++j) {
+      corner_data_[k * f.corners + j] = c[j];
+      r2 = std::max(r2, (c[j] - cf).squaredNorm());
+    }
+    sp.r = std::nextafter(static_cast<float>(std::sqrt(r2)), std::numeric_limits<float>::infinity());
+    ids_[k] = i;
   }
-  // Best facet among the cells that can hold one closer than `limit`.
+  void swap_records(Index a, Index b) {
+    std::swap(spheres_[a], spheres_[b]);
+    std::swap(ids_[a], ids_[b]);
+    for (int j = 0; j < corners_; ++j) std::swap(corner_data_[a * corners_ + j], corner_data_[b * corners_ + j]);
+  }
+  Index coord(Real x, int d, Index dim) const {
+    return std::clamp<Index>(static_cast<Index>(std::floor((x - lo_(d)) / cell_)), 0, dim - 1);
+  }
+  Index column_index(const Vec3& x) const { return coord(x(v_), v_, dims_[1]) * dims_[0] + coord(x(u_), u_, dims_[0]); }
+  // Best facet among those that can be closer than `limit`.
   void scan(const Vec3& p, SearchHit& best, Real limit) const {
     const Real reach = limit + rmax_;
-    Index lo[3], hi[3];
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = cell_coord(p(d) - reach, d);
-      hi[d] = cell_coord(p(d) + reach, d);
-    }
+    const Index ulo = coord(p(u_) - reach, u_, dims_[0]), uhi = coord(p(u_) + reach, u_, dims_[0]);
+    const Index vlo = coord(p(v_) - reach, v_, dims_[1]), vhi = coord(p(v_) + reach, v_, dims_[1]);
+    const int a = axis_;
+    const Real alo = p(a) - reach, ahi = p(a) + reach;
     Real bound = limit;
-    for (Index k = lo[2]; k <= hi[2]; ++k)
-      for (Index j = lo[1]; j <= hi[1]; ++j) {
-        const Index row = (k * dims_[1] + j) * dims_[0];
-        for (Index c = row + lo[0]; c <= row + hi[0]; ++c)
-          for (Index r = start_[c]; r < start_[c + 1]; ++r) {
-            const Sphere& sp = spheres_[r];
-            const Real reach_r = bound + sp.r;
-            const Real dx = p(0) - sp.c[0], dy = p(1) - sp.c[1], dz = p(2) - sp.c[2];
-            if (dx * dx + dy * dy + dz * dz > reach_r * reach_r) continue;
-            const Real d = point_facet_distance(corner_data_.data() + r * corners_, corners_, p);
-            // At a tie the lower facet id: the answer does not depend on the visiting order.
-            if (d < bound || (d == bound && (d < best.distance || ids_[r] < best.facet))) {
-              bound = d;
-              best = {ids_[r], d};
-            }
+    for (Index j = vlo; j <= vhi; ++j)
+      for (Index c = j * dims_[0] + ulo; c <= j * dims_[0] + uhi; ++c) {
+        // The first facet of the column at height alo or above.
+        Index r = start_[c], e = start_[c + 1];
+        for (Index len = e - r; len > 0;) {
+          const Index half = len / 2;
+          if (static_cast<Real>(spheres_[r + half].c[a]) < alo) r += half + 1, len -= half + 1;
+          else len = half;
+        }
+        for (; r < e; ++r) {
+          const Sphere& sp = spheres_[r];
+          if (static_cast<Real>(sp.c[a]) > ahi) break;
+          const Real reach_r = bound + sp.r;
+          const Real dx = p(0) - sp.c[0], dy = p(1) - sp.c[1], dz = p(2) - sp.c[2];
+          if (dx * dx + dy * dy + dz * dz > reach_r * reach_r) continue;
+          const Real d = point_facet_distance(corner_data_.data() + r * corners_, corners_, p);
+          // At a tie the lower facet id: the answer does not depend on the visiting order.
+          if (d < bound || (d == bound && (d < best.distance || ids_[r] < best.facet))) {
+            bound = d;
+            best = {ids_[r], d};
           }
+        }
       }
   }
   SearchHit query(const Vec3& p, Real dmax, Index hint) const {
@@ -244,21 +295,15 @@ class BucketGrid final : public ContactSearch {
     }
   }
 
-  // Bounding spheres in single precision (half the memory traffic of the hot loop); the
-  // radius is enlarged by a bound on the rounding of the centre, so pruning stays exact.
-  struct Sphere {
-    float c[3];
-    float r;
-  };
   int corners_ = 3;
-  std::vector<Sphere> spheres_;     // bounding spheres in cell order (the hot loop)
+  int axis_ = 2, u_ = 0, v_ = 1;    // the sorted axis and the two axes of the columns
+  std::vector<Sphere> spheres_;     // bounding spheres in column order (the hot loop)
   std::vector<Vec3> corner_data_;   // corners in the same order
   std::vector<Index> ids_;          // facet id of each slot
-  std::vector<Index> start_, position_, cell_of_, order_;
-  std::vector<Vec3> centroid_;
+  std::vector<Index> start_, position_, cell_of_;
   Vec3 lo_ = Vec3::Zero();
   Real cell_ = 1, rmax_ = 0;
-  Index dims_[3] = {1, 1, 1};
+  Index dims_[2] = {1, 1};
 };
 
 // ---- AABB tree ----

@@ -1,7 +1,8 @@
 // Global contact search: for each slave point, the closest master facet (exact point-facet
 // distance on the facet's corners: segments in 2D, triangles in 3D, quadrilaterals as two
 // triangles) within a maximal detection distance. Methods: all-to-all (the O(N M)
-// reference), a uniform bucket grid and a bounding volume (AABB) tree; all give the same
+// reference), a bucket grid (columns across the surface, facets sorted along them) and a
+// bounding volume (AABB) tree; all give the same
 // answer, so the fastest is the default.
 #pragma once
 #include <limits>
