@@ -105,3 +105,37 @@ TEST(ContactSearch, PointFacetDistance) {
   EXPECT_NEAR(point_facet_distance(seg, 2, Vec3(1, 3, 0)), 3.0, 1e-15);
   EXPECT_NEAR(point_facet_distance(seg, 2, Vec3(3, 0, 0)), 1.0, 1e-15);
 }
+
+// Degenerate facets (two corners at the same place, three on a line) have the distance of
+// their edges, never NaN (a NaN would hide the facet from every method).
+TEST(ContactSearch, DegenerateFacetsHaveTheirEdgesDistance) {
+  const Vec3 o(0, 0, 0), x(1, 0, 0), h(0.5, 0, 0), p(0.5, 1, 0);
+  for (const std::array<Vec3, 3>& t : {std::array<Vec3, 3>{o, o, x}, std::array<Vec3, 3>{o, x, x},
+                                       std::array<Vec3, 3>{x, o, x}, std::array<Vec3, 3>{o, h, x}}) {
+    EXPECT_DOUBLE_EQ(point_facet_distance(t.data(), 3, p), 1.0);
+    const Vec3 q(2, 0, 0);  // beyond the segment's end
+    EXPECT_DOUBLE_EQ(point_facet_distance(t.data(), 3, q), 1.0);
+  }
+  const Vec3 quad[4] = {o, o, x, Vec3(0, 1, 0)};  // a quadrilateral with a repeated corner
+  EXPECT_NEAR(point_facet_distance(quad, 4, Vec3(0.25, 0.25, 2)), 2.0, 1e-15);
+}
+
+// A closed box: walls parallel to the grid's sorted axis put whole walls in few columns (the
+// sorted slices must still find every closest facet), points inside and outside.
+TEST(ContactSearch, ClosedBoxSurface) {
+  SearchFacets box;
+  box.corners = 3;
+  const int n = 12;
+  auto face = [&](const Vec3& o, const Vec3& u, const Vec3& v) {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 a = o + u * i / n + v * j / n, b = a + u / n, c = a + u / n + v / n, d = a + v / n;
+        box.points.insert(box.points.end(), {a, b, c, a, c, d});
+      }
+  };
+  const Vec3 X(1, 0, 0), Y(0, 2, 0), Z(0, 0, 0.5), O(0, 0, 0);
+  face(O, X, Y), face(O + Z, X, Y), face(O, X, Z), face(O + Y, X, Z), face(O, Y, Z), face(O + X, Y, Z);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 1500; ++i) pts.emplace_back(1.4 * rnd() - 0.2, 2.4 * rnd() - 0.2, 0.9 * rnd() - 0.2);
+  expect_all_agree(box, pts, 0.15, "closed box");
+}

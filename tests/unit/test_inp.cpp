@@ -134,7 +134,7 @@ plate in two steps
 *SOLID SECTION, ELSET=PLATE, MATERIAL=ST
 2.
 *BOUNDARY
-LEFT, 1, 2
+LEFT, ENCASTRE
 *STEP, INC=50
 *STATIC
 0.1, 1., 1e-4, 0.5
@@ -226,6 +226,8 @@ TEST(Inp, ErrorsNameFileLineAndKeyword) {
       {mesh + model + "*STEP\n*STATIC\n", ":12", "*STEP", "not closed"},
       {mesh + model + "*STEP\n*STATIC\n*BOUNDARY\nNOPE, 1, 1\n*END STEP\n", ":15", "*BOUNDARY", "no node set named 'NOPE'"},
       {mesh + model + "*STEP\n*STATIC\n*BOUNDARY\n1, 4, 6\n*END STEP\n", ":15", "*BOUNDARY", "degree of freedom 4"},
+      {mesh + model + "*STEP\n*STATIC\n*BOUNDARY\n1, ZSYMM\n*END STEP\n", ":15", "*BOUNDARY", "no meaning in a 2D"},
+      {mesh + model + "*STEP\n*STATIC\n*BOUNDARY\n1, CLAMPED\n*END STEP\n", ":15", "*BOUNDARY", "got 'CLAMPED'"},
       {mesh + "*MATERIAL, NAME=M\n*ELASTIC\n1000, 0.3, 20\n" + model.substr(model.find("*SOLID")) + step, ":10",
        "*ELASTIC", "temperature"},
       {mesh + model + "*SURFACE, NAME=S\nB, S9\n" + step, ":13", "*SURFACE", "no face S9"},

@@ -730,6 +730,18 @@ void Translator::step_card(const Card& c) {
       if (op == "NEW") state_.bc.clear();
       for (const DataLine& d : c.data) {
         const std::string set = node_target(c, d);
+        // Abaqus' named conditions: their translational part (nodes have no rotations).
+        const std::string named = d.fields.size() > 1 ? upper(d.fields[1]) : "";
+        if (named == "ENCASTRE" || named == "PINNED" || named == "XSYMM" || named == "YSYMM" || named == "ZSYMM") {
+          if (d.fields.size() > 2) c.fail(d, named + " takes no further values");
+          const int only = named == "XSYMM" ? 0 : named == "YSYMM" ? 1 : named == "ZSYMM" ? 2 : -1;
+          if (only >= dim) c.fail(d, named + " has no meaning in a 2D model");
+          for (int comp = 0; comp < dim; ++comp)
+            if (only < 0 || comp == only) state_.bc[{set, comp}] = Valued{Vec3::Zero(), 0, d.where()};
+          continue;
+        }
+        if (!named.empty() && !is_integer(named))
+          c.fail(d, "expected a degree of freedom or ENCASTRE, PINNED, XSYMM, YSYMM, ZSYMM; got '" + d.fields[1] + "'");
         const Index first = integer(c, d, 1, "the first degree of freedom");
         const Index last = d.fields.size() > 2 && !d.fields[2].empty() ? integer(c, d, 2, "the last degree of freedom") : first;
         const Real value = number_or(c, d, 3, "the value", 0);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <functional>
 #include <cctype>
@@ -131,8 +132,9 @@ std::string find_gmsh_executable() {
   return "";
 }
 
-// A gmsh process meshing `geo` into `msh` (format 4.1), its output in `logf`.
-// `mesh_it` false: only read the file and write it again (a .msh checked in a process of its own).
+// A gmsh process meshing `geo` into `msh` (format 4.1), its output in `logf`, in a process
+// group of its own (Ctrl-C reaches Signorini, which stops it). `mesh_it` false: only read the
+// file and write it again (a .msh checked in a process of its own).
 pid_t spawn_gmsh(const std::string& exe, const std::string& geo, const std::vector<std::string>& args, int order,
                  const std::string& msh, const std::string& logf, const std::string& where, bool mesh_it = true) {
   std::vector<std::string> a{exe, geo, mesh_it ? "-3" : "-save", "-format", "msh41", "-o", msh, "-v", "3", "-nt", "1"};
@@ -146,9 +148,14 @@ pid_t spawn_gmsh(const std::string& exe, const std::string& geo, const std::vect
   posix_spawn_file_actions_addopen(&fa, 1, logf.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&fa, 1, 2);
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
   pid_t pid;
-  const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, exe.c_str(), &fa, &attr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
   if (rc != 0) throw InputError(where, "mesh.file", "cannot run " + exe + ": " + std::strerror(rc));
   return pid;
 }
@@ -159,21 +166,56 @@ std::string temp_stem() {
                                                     std::to_string(counter++))).string();
 }
 
-// Waits for a child for at most `timeout` seconds (< 0: no limit), calling `tick` with the
-// elapsed seconds about 10 times a second; `tick` returning false kills the child. Returns
-// true when the child ended (its status in `status`), false when it was killed.
-bool wait_child(pid_t pid, double timeout, int& status, const std::function<bool(double)>& tick) {
-  log::Timer t;
-  while (true) {
-    const pid_t r = ::waitpid(pid, &status, WNOHANG);
-    if (r == pid) return true;
-    if ((timeout >= 0 && t.seconds() > timeout) || (tick && !tick(t.seconds()))) {
+// A gmsh child and its files: whatever happens (an exception included), the process is
+// stopped and reaped and the files removed, except the output handed over by keep().
+struct Child {
+  pid_t pid = -1;
+  std::vector<std::string> files;
+  ~Child() {
+    if (pid > 0) {
       ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      return false;
+      int st = 0;
+      ::waitpid(pid, &st, 0);
     }
-    ::usleep(100000);
+    for (auto& f : files) {
+      std::error_code ec;
+      std::filesystem::remove(f, ec);
+    }
   }
+  std::string keep(const std::string& file) {
+    files.erase(std::remove(files.begin(), files.end(), file), files.end());
+    return file;
+  }
+  // Waits at most `timeout` seconds (< 0: no limit), calling `tick` with the elapsed seconds
+  // about 10 times a second; `tick` returning false stops the child. True when the child
+  // ended by itself (its status in `status`; a child reaped elsewhere counts as a normal exit).
+  bool wait(double timeout, int& status, const std::function<bool(double)>& tick) {
+    log::Timer t;
+    while (true) {
+      const pid_t r = ::waitpid(pid, &status, WNOHANG);
+      if (r == pid || (r < 0 && errno == ECHILD)) {
+        if (r < 0) status = 0;
+        pid = -1;
+        return true;
+      }
+      if ((timeout >= 0 && t.seconds() > timeout) || (tick && !tick(t.seconds()))) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        pid = -1;
+        return false;
+      }
+      ::usleep(100000);
+    }
+  }
+};
+
+// Gmsh's error lines ("Error   : ...") in its log.
+std::string log_errors(const std::string& logf) {
+  std::ifstream lg(logf);
+  std::string line, errors;
+  while (std::getline(lg, line))
+    if (line.rfind("Error", 0) == 0) errors += (errors.empty() ? "" : "; ") + line;
+  return errors;
 }
 
 // Element count and dimension of a .msh 4.1 file (from its $Elements blocks' headers).
@@ -203,21 +245,21 @@ double msh_elements(const std::string& msh, int* dim) {
 // above `max_elements`; otherwise it reports its progress every 10 s.
 std::string mesh_in_child(const std::string& exe, const std::string& geo, const std::vector<std::string>& args,
                           int order, const std::string& where, double max_elements) {
-  namespace fs = std::filesystem;
   const std::string stem = temp_stem();
   const std::string msh = stem + ".msh", logf = stem + ".log";
-  const pid_t pid = spawn_gmsh(exe, geo, args, order, msh, logf, where);
+  Child child{-1, {msh, logf}};
+  child.pid = spawn_gmsh(exe, geo, args, order, msh, logf, where);
   double estimate = -1, last_report = 0;
+  bool estimated = false;
   std::string refused;
   int status = 0;
-  const bool ended = wait_child(pid, -1, status, [&](double t) {
-    if (interrupt_signal()) {
-      refused = "interrupted";
-      return false;
-    }
-    if (t > 5 && estimate < 0) {
+  const bool ended = child.wait(-1, status, [&](double t) {
+    if (interrupt_signal()) return false;
+    if (t > 5 && !estimated) {
+      estimated = true;
       log::info("meshing '{}' takes a while: estimating its size from coarser meshes", geo);
-      estimate = std::max(0.0, estimate_elements(exe, geo, args));
+      estimate = estimate_elements(exe, geo, args);
+      if (interrupt_signal()) return false;
       if (estimate > max_elements) {
         refused = fmt::format(
             "meshing '{}' would make about {:.3g} elements (estimated from coarser meshes of it), more than "
@@ -225,66 +267,50 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
             geo, estimate, max_elements);
         return false;
       }
-      log::info("meshing '{}': about {:.3g} elements expected", geo, estimate);
+      if (estimate >= 0) log::info("meshing '{}': about {:.3g} elements expected", geo, estimate);
+      else log::info("meshing '{}': its size could not be estimated from coarser meshes", geo);
       last_report = t;
     }
-    if (estimate >= 0 && t - last_report >= 10) {
+    if (estimated && t - last_report >= 10) {
       log::info("meshing '{}': {:.0f} s", geo, t);
       last_report = t;
     }
     return true;
   });
-  std::ifstream lg(logf);
-  std::string line, errors;
-  while (std::getline(lg, line))
-    if (line.find("Error") != std::string::npos) errors += (errors.empty() ? "" : "; ") + line;
-  fs::remove(logf);
-  if (!ended) {
-    fs::remove(msh);
-    if (refused == "interrupted") throw InputError(where, "mesh.file", "meshing '" + geo + "' interrupted");
-    throw InputError(where, "mesh.max_elements", refused);
-  }
-  if (WIFSIGNALED(status)) {
-    fs::remove(msh);
-    const double n = estimate >= 0 ? estimate : estimate_elements(exe, geo, args);
-    if (n > max_elements)
-      throw InputError(where, "mesh.max_elements",
-                       fmt::format("Gmsh stopped (signal {}) meshing '{}', which would make about {:.3g} elements "
-                                   "(estimated from coarser meshes of it), more than mesh.max_elements = {:.3g}: make "
-                                   "the mesh coarser (its size parameters)",
-                                   WTERMSIG(status), geo, n, max_elements));
+  if (interrupt_signal()) throw InputError(where, "mesh.file", "meshing '" + geo + "' interrupted");
+  if (!ended) throw InputError(where, "mesh.max_elements", refused);
+  const std::string errors = log_errors(logf);
+  if (WIFSIGNALED(status))
     throw InputError(where, "mesh.file",
                      "Gmsh crashed (signal " + std::to_string(WTERMSIG(status)) + ") while meshing '" + geo +
-                         "'. This is a Gmsh bug; another Mesh.Algorithm in the .geo usually avoids it" +
+                         "'. This is a Gmsh bug (or the mesh is too large for memory); another Mesh.Algorithm in "
+                         "the .geo usually avoids it" +
                          (errors.empty() ? "" : " (" + errors + ")"));
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !errors.empty() || !fs::exists(msh)) {
-    fs::remove(msh);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !errors.empty() || !std::filesystem::exists(msh))
     throw InputError(where, "mesh.file", "Gmsh could not mesh '" + geo + "': " + (errors.empty() ? "no mesh written" : errors));
-  }
-  if (estimate >= 0) log::info("meshed '{}': {:.0f} elements", geo, msh_elements(msh, nullptr));
-  return msh;
+  if (estimated) log::info("meshed '{}': {:.0f} elements", geo, msh_elements(msh, nullptr));
+  return child.keep(msh);
 }
 
 }  // namespace
 
 void check_msh_in_child(const std::string& exe, const std::string& msh, const std::string& where) {
   namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto size = fs::file_size(msh, ec);
+  if (ec || !fs::is_regular_file(msh, ec)) throw InputError(where, "mesh.file", "'" + msh + "' is not a readable file");
   const std::string logf = temp_stem() + ".log";
-  const pid_t pid = spawn_gmsh(exe, msh, {}, 0, "/dev/null", logf, where, false);
+  Child child{-1, {logf}};
+  child.pid = spawn_gmsh(exe, msh, {}, 0, "/dev/null", logf, where, false);
   // Reading takes about a second per 10 MB; a malformed count must not hang the run.
-  const double limit = 20 + static_cast<double>(fs::file_size(msh)) / 5e6;
+  const double limit = 20 + static_cast<double>(size) / 5e6;
   int status = 0;
-  const bool ended = wait_child(pid, limit, status, [](double) { return interrupt_signal() == 0; });
-  std::ifstream lg(logf);
-  std::string line, errors;
-  while (std::getline(lg, line))
-    if (line.find("Error") != std::string::npos) errors += (errors.empty() ? "" : "; ") + line;
-  fs::remove(logf);
+  const bool ended = child.wait(limit, status, [](double) { return interrupt_signal() == 0; });
+  if (interrupt_signal()) throw InputError(where, "mesh.file", "reading '" + msh + "' interrupted");
   if (!ended)
-    throw InputError(where, "mesh.file", interrupt_signal() ? "reading '" + msh + "' interrupted"
-                                                            : fmt::format("Gmsh did not finish reading '{}' in {:.0f} s "
-                                                                          "(a malformed count?)", msh, limit));
+    throw InputError(where, "mesh.file", fmt::format("Gmsh did not finish reading '{}' in {:.0f} s (a malformed count?)",
+                                                     msh, limit));
+  const std::string errors = log_errors(logf);
   if (WIFSIGNALED(status))
     throw InputError(where, "mesh.file", fmt::format("Gmsh crashed (signal {}) reading '{}': the file is malformed{}",
                                                      WTERMSIG(status), msh, errors.empty() ? "" : " (" + errors + ")"));
@@ -296,34 +322,43 @@ double count_elements(const std::string& exe, const std::string& geo, const std:
                       double size_factor, double timeout, int* dim) {
   const std::string stem = temp_stem();
   const std::string msh = stem + ".msh", logf = stem + ".log";
+  Child child{-1, {msh, logf}};
   std::vector<std::string> a = args;
   std::ostringstream f;
   f.precision(17);
   f << size_factor;
   a.insert(a.end(), {"-clscale", f.str()});
-  const pid_t pid = spawn_gmsh(exe, geo, a, 0, msh, logf, geo);
+  child.pid = spawn_gmsh(exe, geo, a, 0, msh, logf, geo);
   int status = 0;
-  const bool ended = wait_child(pid, timeout, status, nullptr);
-  double n = -1;
-  if (ended && WIFEXITED(status) && WEXITSTATUS(status) == 0) n = msh_elements(msh, dim);
-  std::filesystem::remove(msh);
-  std::filesystem::remove(logf);
-  return n;
+  if (!child.wait(timeout, status, [](double) { return interrupt_signal() == 0; })) return -2;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return msh_elements(msh, dim);
+  return -1;
 }
 
 double estimate_elements(const std::string& exe, const std::string& geo, const std::vector<std::string>& args) {
-  double previous = -1, s = std::pow(4.0, 20);
+  // Counts N(s) with every size multiplied by s, from s = 4^20 down. Where the sizes are
+  // below the geometry's features N grows like s^-e (e = the dimension when the size field
+  // scales, less when parts of the mesh are fixed: transfinite lines, layers); the estimate
+  // N(1) = N(s) s^e uses the exponent measured between the last two counts (once both are
+  // large enough to be past the geometry's own minimum).
+  double prev_n = -1, prev_s = 0, s = std::pow(4.0, 20);
   int dim = 3;
-  while (s >= 1) {
+  while (true) {
     const double n = count_elements(exe, geo, args, s, 20, &dim);
-    if (n < 0) return previous >= 0 ? previous * std::pow(4.0, dim) * std::pow(s, dim) : INFINITY;  // too slow
-    if (n >= 2000 || s == 1) return n * std::pow(s, dim);
-    // Saturated (every size beyond the geometry's): larger strides until the count moves.
-    s /= n == previous ? 16 : 4;
-    if (s < 1) s = 1;
-    previous = n;
+    if (interrupt_signal()) return -1;
+    if (n == -2)  // the coarse mesh itself took more than 20 s: far beyond a limit of 1e7
+      return prev_n > 0 ? prev_n * std::pow(prev_s, dim) : -1;
+    if (n < 0) return -1;  // Gmsh failed on the coarse mesh: no estimate
+    if (s <= 1) return n;
+    if (prev_n >= 500 && n >= 2000) {  // both counts past the geometry's own
+      const Real e = std::clamp(std::log(n / prev_n) / std::log(prev_s / s), 0.0, static_cast<Real>(dim));
+      return n * std::pow(s, e);
+    }
+    // Saturated (every size beyond the geometry's: the count does not move): larger strides.
+    const bool saturated = n == prev_n;
+    prev_n = n, prev_s = s;
+    s = std::max(1.0, s / (saturated ? 16 : 4));
   }
-  return previous;
 }
 
 std::string geo_side_effect(const std::string& t) {

@@ -26,6 +26,10 @@ Real point_segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
 // sec. 5.1.5); a degenerate (zero-area) triangle falls back to its three edges.
 Real point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const Vec3 n = ab.cross(ac);
+  const Real n2 = n.squaredNorm();
+  if (!(n2 > 0))  // degenerate: coincident or collinear corners (the regions' divisions would be 0/0)
+    return std::min({point_segment_distance2(p, a, b), point_segment_distance2(p, b, c), point_segment_distance2(p, c, a)});
   const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();  // vertex a
   const Vec3 bp = p - b;
@@ -41,9 +45,7 @@ Real point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const
   const Real va = d3 * d6 - d5 * d4;
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
     return (bp - ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)).squaredNorm();  // edge bc
-  const Vec3 n = ab.cross(ac);
-  const Real n2 = n.squaredNorm();
-  if (!(va + vb + vc > 0) || !(n2 > 0))
+  if (!(va + vb + vc > 0))
     return std::min({point_segment_distance2(p, a, b), point_segment_distance2(p, b, c), point_segment_distance2(p, c, a)});
   const Real d = n.dot(ap);  // interior: the distance to the plane
   return d * d / n2;
@@ -166,8 +168,9 @@ class BucketGrid final : public ContactSearch {
       set_dims();
     }
     const Index ncol = dims_[0] * dims_[1];
+    // Binned by the centre as stored (single precision), which the pruning measures from.
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) cell_of_[i] = column_index(centroid(f, i));
+    for (Index i = 0; i < n; ++i) cell_of_[i] = column_index(centroid(f, i).cast<float>().cast<Real>());
     // Counting sort of the facets by column (start_ shifted by one during the fill, then back).
     start_.assign(ncol + 1, 0);
     for (Index i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
@@ -178,11 +181,30 @@ class BucketGrid final : public ContactSearch {
     // The records, then each column sorted along the axis (its facets are few).
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) write_record(f, i, position_[i]);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (Index c = 0; c < ncol; ++c) {
-      const int a = axis_;
-      for (Index r = start_[c] + 1; r < start_[c + 1]; ++r)  // insertion sort by the axis
-        for (Index q = r; q > start_[c] && spheres_[q].c[a] < spheres_[q - 1].c[a]; --q) swap_records(q, q - 1);
+#pragma omp parallel
+    {
+      std::vector<std::pair<float, Index>> key;  // (height, facet id), per thread
+      std::vector<Sphere> sp;
+      std::vector<Vec3> corners;
+      std::vector<Index> id;
+#pragma omp for schedule(dynamic, 256)
+      for (Index c = 0; c < ncol; ++c) {
+        const Index b = start_[c], e = start_[c + 1];
+        if (e - b < 2) continue;
+        key.clear();
+        for (Index r = b; r < e; ++r) key.emplace_back(spheres_[r].c[axis_], r);
+        // By height, then by slot: the same order whatever the threads (the fill is serial).
+        std::sort(key.begin(), key.end());
+        sp.assign(spheres_.begin() + b, spheres_.begin() + e);
+        corners.assign(corner_data_.begin() + b * corners_, corner_data_.begin() + e * corners_);
+        id.assign(ids_.begin() + b, ids_.begin() + e);
+        for (Index k = 0; k < e - b; ++k) {
+          const Index from = key[k].second - b;
+          spheres_[b + k] = sp[from];
+          ids_[b + k] = id[from];
+          for (int j = 0; j < corners_; ++j) corner_data_[(b + k) * corners_ + j] = corners[from * corners_ + j];
+        }
+      }
     }
     float r = 0;
     for (const Sphere& sp : spheres_) r = std::max(r, sp.r);
@@ -235,11 +257,6 @@ class BucketGrid final : public ContactSearch {
     }
     sp.r = std::nextafter(static_cast<float>(std::sqrt(r2)), std::numeric_limits<float>::infinity());
     ids_[k] = i;
-  }
-  void swap_records(Index a, Index b) {
-    std::swap(spheres_[a], spheres_[b]);
-    std::swap(ids_[a], ids_[b]);
-    for (int j = 0; j < corners_; ++j) std::swap(corner_data_[a * corners_ + j], corner_data_[b * corners_ + j]);
   }
   Index coord(Real x, int d, Index dim) const {
     return std::clamp<Index>(static_cast<Index>(std::floor((x - lo_(d)) / cell_)), 0, dim - 1);
