@@ -133,6 +133,9 @@ TEST(Deck, DuplicateKeysAndNonFiniteNumbers) {
   EXPECT_MESSAGE(m, "nan.yaml:5", "materials.steel.E", "finite");
   m = error_of("overflow", replace(kGood, "E: 210e9", "E: 1e400"));
   EXPECT_MESSAGE(m, "overflow.yaml:5", "materials.steel.E", "1e400");
+  // Found by fuzz_deck: a mapping used as a key ('? ...') was a yaml-cpp "bad conversion".
+  m = error_of("complex_key", replace(kGood, "  steel: {", "? steel: {"));
+  EXPECT_MESSAGE(m, "complex_key.yaml:5", "a key must be a plain name", "not a list or a mapping");
 }
 
 // Issue 17: a .geo is a Gmsh program; its side effects are refused (with the script's line)

@@ -139,8 +139,11 @@ void reject_duplicate_keys(const YAML::Node& node, const std::string& file, cons
   if (!node.IsMap()) return;
   std::map<std::string, int> seen;  // key -> line (1-based)
   for (auto it = node.begin(); it != node.end(); ++it) {
-    const std::string k = it->first.IsScalar() ? it->first.as<std::string>() : std::string("(a non-scalar key)");
     const int line = it->first.Mark().line + 1;
+    if (!it->first.IsScalar())
+      throw InputError(file + ":" + std::to_string(line), path,
+                       "a key must be a plain name, not a list or a mapping (a '?' key or a '[...]: ' key?)");
+    const std::string k = it->first.as<std::string>();
     const std::string kp = path.empty() ? k : path + "." + k;
     if (auto [at, fresh] = seen.emplace(k, line); !fresh)
       throw InputError(file + ":" + std::to_string(line), kp,
@@ -824,7 +827,8 @@ std::string yaml_open_context(const std::string& text, int err_line, int err_col
 
 }  // namespace
 
-Model read_deck(const std::string& path, const Registry& registry, DeckReport* report) {
+namespace {
+Model read_deck_unguarded(const std::string& path, const Registry& registry, DeckReport* report) {
   if (!fs::exists(path)) throw InputError(path, "", "deck file does not exist");
   if (fs::is_directory(path)) throw InputError(path, "", "is a directory, not a deck file");
   YAML::Node root;
@@ -889,6 +893,19 @@ Model read_deck(const std::string& path, const Registry& registry, DeckReport* r
   if (top.has("checks")) read_checks(top.child("checks"), registry, m);
   if (report) *report = rep;
   return m;
+}
+}  // namespace
+
+Model read_deck(const std::string& path, const Registry& registry, DeckReport* report) {
+  // Whatever the deck holds, a yaml-cpp or filesystem exception becomes an error that names
+  // the file (the fuzzer's rule: bad input gets an InputError).
+  try {
+    return read_deck_unguarded(path, registry, report);
+  } catch (const YAML::Exception& e) {
+    throw InputError(e.mark.line >= 0 ? path + ":" + std::to_string(e.mark.line + 1) : path, "", e.what());
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError(path, "", e.what());
+  }
 }
 
 }  // namespace signorini
