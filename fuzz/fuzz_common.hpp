@@ -24,6 +24,10 @@ inline const std::filesystem::path& folder() {
     fs::create_directories(d);
     fs::copy_file(SIGNORINI_FUZZ_DIR "/square.msh", d / "square.msh", fs::copy_options::overwrite_existing);
     log::set_level(log::Level::quiet);
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(std::filesystem::temp_directory_path() / ("signorini_fuzz_" + std::to_string(::getpid())), ec);
+    });
     return d;
   }();
   return dir;

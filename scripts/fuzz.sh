@@ -33,6 +33,7 @@ status=0
 for t in "${targets[@]}"; do
   k="$(kind "$t")"
   corpus="$build/corpus/$t" seeds="$build/seeds/$t" artifacts="$build/artifacts/$t"
+  rm -rf "$artifacts"  # a finding of an earlier run is in its log; this run starts clean
   mkdir -p "$corpus" "$seeds" "$artifacts"
   cp "$here/fuzz/corpus/$k/"* "$seeds/"
   case "$k" in
@@ -50,7 +51,7 @@ for t in "${targets[@]}"; do
   grep -E "^stat::(number_of_executed_units|peak_rss_mb)|^#[0-9]+ +DONE" "$build/$t.log" | tail -3 || true
   if [ $rc -ne 0 ] || [ -n "$(ls -A "$artifacts")" ]; then
     echo "FINDING in $t (exit $rc): $(ls "$artifacts" | head -5); the log: $build/$t.log"
-    grep -E "ERROR|finding|SUMMARY|runtime error" "$build/$t.log" | head -5
+    grep -E "ERROR|finding|SUMMARY|runtime error" "$build/$t.log" | head -5 || true
     status=1
   fi
 done

@@ -215,7 +215,7 @@ TEST(Inp, ErrorsNameFileLineAndKeyword) {
   struct Case {
     std::string text, where, key, what;
   };
-  const std::vector<Case> cases{
+  std::vector<Case> cases{
       {mesh + "*FOO, BAR=1\n" + model + step, ":8", "*FOO", "not available"},
       {"*NODE\n1, 0, inf\n", ":2", "*NODE", "finite"},
       {"*NODE\n1, 0, .nan\n", ":2", "*NODE", "got '.nan'"},
@@ -238,7 +238,13 @@ TEST(Inp, ErrorsNameFileLineAndKeyword) {
        "*ELASTIC", "nu"},
       {mesh + model + "*STEP\n*STATIC\n0.1, 1\n*BOUNDARY, AMPLITUDE=A\n1, 1, 2\n*END STEP\n", ":15", "*BOUNDARY",
        "AMPLITUDE"},
-      {"*INCLUDE, INPUT=does_not_exist.inp\n", ":1", "*INCLUDE", "cannot open"},
+      {"*INCLUDE, INPUT=does_not_exist.inp\n", ":1", "*INCLUDE", "is not a readable file"},
+      {"*INCLUDE, INPUT=/dev/zero\n", ":1", "*INCLUDE", "is not a readable file"},
+      {"*INCLUDE, INPUT=" + std::string(300, 'a') + "\n", ":1", "*INCLUDE", "is not a readable file"},
+      // Found in review: ids beyond 2^31, a face on a surface's second card, a set naming itself.
+      {"*NODE\n9223372036854775807, 0, 0\n", ":2", "*NODE", "from 1 to 2147483647"},
+      {mesh + "*NSET, NSET=A, GENERATE\n1, 9223372036854775800, 5\n", ":9", "*NSET", "from 1 to 2147483647"},
+      {mesh + model + "*SURFACE, NAME=S\nB, S1\nB, S2\n*SURFACE, NAME=S\nB, S9\n" + step, ":16", "*SURFACE", "no face S9"},
   };
   Registry r = default_registry();
   int i = 0;
@@ -272,4 +278,21 @@ TEST(Inp, MeshForAYamlDeck) {
   EXPECT_EQ(m.node_sets.at("TOP").size(), 3u);
   EXPECT_EQ(m.facet_sets.at("TOPS")[0].size(), 2);      // the two top edges
   EXPECT_EQ(m.facet_sets.at("ALLSIDES")[0].size(), 6);  // the boundary of the 2 x 1 strip
+}
+
+// Found in review: a set that names itself doubles at each card (now a set, not a list), and
+// CalculiX's predefined NALL and EALL may be named before any deck defines them.
+TEST(Inp, SetsNamingThemselvesAndPredefinedSets) {
+  log::set_level(log::Level::warning);
+  std::string text = "*NODE\n1, 0, 0\n2, 1, 0\n3, 1, 1\n4, 0, 1\n*ELEMENT, TYPE=CPE4, ELSET=B\n1, 1, 2, 3, 4\n"
+                     "*NSET, NSET=A\n1, 2\n";
+  for (int i = 0; i < 40; ++i) text += "*NSET, NSET=A\nA, A\n";
+  text += "*NSET, NSET=BOTH\nNALL\n*ELSET, ELSET=E\nEALL\n*SURFACE, NAME=OUT\nEALL\n";
+  const fs::path p = write_temp("selfsets.inp", text);
+  Mesh m = read_inp_mesh(p.string());
+  fs::remove(p);
+  EXPECT_EQ(m.node_sets.at("A").size(), 2u);
+  EXPECT_EQ(m.node_sets.at("BOTH").size(), 4u);
+  EXPECT_EQ(m.regions.at("E")[0].size(), 1);
+  EXPECT_EQ(m.facet_sets.at("OUT")[0].size(), 4);
 }

@@ -67,6 +67,10 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   DeckReport rep;
   install_interrupt_handlers();  // Ctrl-C while a .geo is meshed stops the gmsh process too
   Model model = read_deck(deck, registry, &rep);
+  if (interrupt_signal()) {  // arrived while reading (the readers do not stop by themselves)
+    fmt::print(stderr, "error: interrupted while reading '{}'\n", deck);
+    return 128 + interrupt_signal();
+  }
   print_model(model, rep);
   if (check_only) {
     fmt::print("Deck and mesh are valid; nothing solved ('signorini run' solves).\n");

@@ -119,6 +119,13 @@ bool is_integer(const std::string& s) {
     if (!std::isdigit(static_cast<unsigned char>(s[i]))) return false;
   return s.size() > (s[0] == '-' || s[0] == '+');
 }
+Index integer(const Card& c, const DataLine& d, size_t i, const std::string& what);
+// A node or element id: an integer from 1 to 2^31 - 1.
+Index id_number(const Card& c, const DataLine& d, size_t i, const std::string& what) {
+  const Index v = integer(c, d, i, what);
+  if (v < 1 || v > 2147483647) c.fail(d, what + " must be from 1 to 2147483647, got " + d.fields[i]);
+  return v;
+}
 Index integer(const Card& c, const DataLine& d, size_t i, const std::string& what) {
   if (i >= d.fields.size() || !is_integer(d.fields[i]))
     c.fail(d, "expected an integer for " + what + (i < d.fields.size() ? ", got '" + d.fields[i] + "'" : ""));
@@ -135,8 +142,9 @@ struct Lexer {
 
   void read(const std::string& path, const std::string& from_where, int depth) {
     if (depth > 16) throw InputError(from_where, "*INCLUDE", "*INCLUDE nested more than 16 deep (an include cycle?)");
+    std::error_code ec;
     std::ifstream in(path, std::ios::binary);
-    if (!in || fs::is_directory(path))
+    if (!in || !fs::is_regular_file(path, ec))
       throw InputError(from_where.empty() ? path : from_where, from_where.empty() ? "" : "*INCLUDE",
                        from_where.empty() ? "cannot open the file" : "cannot open '" + path + "'");
     files.push_back(std::make_unique<std::string>(path));
@@ -172,10 +180,12 @@ struct Lexer {
           if (!inc.empty() && inc.front() == '"' && inc.back() == '"' && inc.size() >= 2) inc = inc.substr(1, inc.size() - 2);
           if (inc.empty()) c.fail("needs INPUT=<file>");
           fs::path p(inc);
+          std::error_code ec;
           if (p.is_relative()) {
             const fs::path here = fs::path(path).parent_path() / p;
-            if (fs::exists(here) || !fs::exists(p)) p = here;
+            if (fs::exists(here, ec) || !fs::exists(p, ec)) p = here;
           }
+          if (!fs::is_regular_file(p, ec)) c.fail("'" + p.string() + "' is not a readable file");
           read(p.string(), c.where(), depth + 1);
           continue;
         }
@@ -281,8 +291,7 @@ struct Surface {
   bool nodes = false;
   std::vector<std::pair<std::string, std::string>> items;  // (element or node set / id, face or "")
   std::string where;
-  const Card* card = nullptr;
-  std::vector<size_t> lines;  // index of the data line of each item
+  std::vector<std::pair<const Card*, size_t>> lines;  // the card and data line of each item
 };
 struct Valued {
   Vec3 v = Vec3::Zero();
@@ -371,6 +380,18 @@ class Translator {
   void step_card(const Card& c);
   void model_card(const Card& c);
   std::vector<Index> set_members(const Card& c, bool nodes);
+  // CalculiX's predefined sets, NALL (every node) and EALL (every element), made when first
+  // named (unless the deck defines them).
+  void implicit_set(const std::string& name) {
+    if (name == "NALL" && !nset_ids_.count(name)) {
+      auto& v = nset_ids_[name] = node_id_;
+      std::sort(v.begin(), v.end());
+    }
+    if (name == "EALL" && !elset_ids_.count(name)) {
+      auto& v = elset_ids_[name] = eid_;
+      std::sort(v.begin(), v.end());
+    }
+  }
   // Node set name for a data line's first field (a set name or a node id).
   std::string node_target(const Card& c, const DataLine& d);
   std::vector<Index> element_nodes(Index e) const;
@@ -424,7 +445,7 @@ std::vector<Index> Translator::set_members(const Card& c, bool nodes) {
   const bool generate = c.has("GENERATE");
   for (const DataLine& d : c.data) {
     if (generate) {
-      const Index a = integer(c, d, 0, "the first id"), b = integer(c, d, 1, "the last id");
+      const Index a = id_number(c, d, 0, "the first id"), b = id_number(c, d, 1, "the last id");
       const Index inc = d.fields.size() > 2 && !d.fields[2].empty() ? integer(c, d, 2, "the increment") : 1;
       if (inc <= 0 || b < a) c.fail(d, "GENERATE needs first <= last and a positive increment");
       if ((b - a) / inc > 100000000) c.fail(d, "GENERATE range too large");
@@ -434,8 +455,9 @@ std::vector<Index> Translator::set_members(const Card& c, bool nodes) {
     for (const std::string& f : d.fields) {
       if (f.empty()) continue;
       if (is_integer(f)) {
-        out.push_back(std::strtoll(f.c_str(), nullptr, 10));
+        out.push_back(id_number(c, DataLine{d.file, d.line, {f}}, 0, nodes ? "a node id" : "an element id"));
       } else {
+        implicit_set(upper(f));
         auto it = sets.find(upper(f));
         if (it == sets.end()) c.fail(d, std::string("no ") + (nodes ? "node" : "element") + " set named '" + upper(f) + "' (defined so far)");
         out.insert(out.end(), it->second.begin(), it->second.end());
@@ -452,7 +474,7 @@ void Translator::mesh_card(const Card& c) {
     if (c.has("SYSTEM") && upper(c.raw("SYSTEM")) != "R") c.fail("only rectangular coordinates (SYSTEM=R) are read");
     const std::string nset = c.has("NSET") ? c.name("NSET") : "";
     for (const DataLine& d : c.data) {
-      const Index id = integer(c, d, 0, "the node id");
+      const Index id = id_number(c, d, 0, "the node id");
       if (d.fields.size() < 3) c.fail(d, "a node line is: id, x, y[, z]");
       if (d.fields.size() > 4) c.fail(d, "a node line is: id, x, y[, z] (got " + std::to_string(d.fields.size()) + " fields)");
       Vec3 x = Vec3::Zero();
@@ -486,10 +508,10 @@ void Translator::mesh_card(const Card& c) {
       if (static_cast<int>(fields.size()) > nn + 1)
         c.fail(d, fmt::format("{} has {} nodes, this element line has {}", tname, nn, fields.size() - 1));
       DataLine all{d.file, d.line, fields};
-      const Index id = integer(c, all, 0, "the element id");
+      const Index id = id_number(c, all, 0, "the element id");
       if (!elem_of_.emplace(id, static_cast<Index>(eid_.size())).second) c.fail(d, "element " + std::to_string(id) + " is defined twice");
       std::vector<Index> ids(nn);
-      for (int j = 0; j < nn; ++j) ids[j] = integer(c, all, j + 1, "node " + std::to_string(j + 1));
+      for (int j = 0; j < nn; ++j) ids[j] = id_number(c, all, j + 1, "node " + std::to_string(j + 1));
       for (int j = 0; j < nn; ++j) econn_ids_.push_back(ids[et->order[j]]);
       eoff_.push_back(static_cast<Index>(econn_ids_.size()));
       etype_.push_back(et->type);
@@ -507,6 +529,8 @@ void Translator::mesh_card(const Card& c) {
     std::vector<Index> m = set_members(c, nodes);
     auto& v = (nodes ? nset_ids_ : elset_ids_)[name];
     v.insert(v.end(), m.begin(), m.end());
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
     (nodes ? nset_where_ : elset_where_).emplace(name, c.where());
   } else if (k == "SURFACE") {
     c.allow({"NAME", "TYPE", "INTERNAL"});
@@ -517,14 +541,13 @@ void Translator::mesh_card(const Card& c) {
     if (!s.items.empty() && s.nodes != (type == "NODE")) c.fail("surface " + name + " was defined with another TYPE");
     s.nodes = type == "NODE";
     s.where = c.where();
-    s.card = &c;
     for (size_t i = 0; i < c.data.size(); ++i) {
       const DataLine& d = c.data[i];
       if (d.fields.empty() || d.fields[0].empty()) c.fail(d, "expected an element (or node) set or id");
       std::string face = d.fields.size() > 1 ? upper(d.fields[1]) : "";
       if (s.nodes) face.clear();  // a node surface's second field is a weight
       s.items.emplace_back(d.fields[0], face);
-      s.lines.push_back(i);
+      s.lines.emplace_back(&c, i);
     }
   }
 }
@@ -662,6 +685,7 @@ std::string Translator::node_target(const Card& c, const DataLine& d) {
     return name;
   }
   const std::string name = upper(f);
+  implicit_set(name);
   if (!nset_ids_.count(name)) {
     std::string known;
     for (auto& [n, v] : nset_ids_)
@@ -872,6 +896,7 @@ std::vector<Index> Translator::elements_of(const std::string& name, const Card& 
     out.push_back(it->second);
     return out;
   }
+  implicit_set(upper(name));
   auto it = elset_ids_.find(upper(name));
   if (it == elset_ids_.end()) c.fail(d, "no element set named '" + upper(name) + "'");
   for (Index id : it->second) {
@@ -949,7 +974,7 @@ void Translator::build_mesh(bool deck) {
   }
   std::vector<Index> all(node_id_.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<Index>(i);
-  mesh.node_sets["NALL"] = all;
+  if (!mesh.node_sets.count("NALL")) mesh.node_sets["NALL"] = all;
   // Regions: the sections' element sets for a deck, every element set (and EALL) for a mesh.
   auto region = [&](const std::string& name, const std::vector<Index>& elems) {
     auto& blocks = mesh.regions[name];
@@ -1012,14 +1037,15 @@ void Translator::build_mesh(bool deck) {
   }
   // Surfaces.
   for (auto& [name, s] : surfaces_) {
-    const Card& c = *s.card;
     if (s.nodes) {
       std::vector<Index> ids;
       for (size_t i = 0; i < s.items.size(); ++i) {
-        const DataLine& d = c.data[s.lines[i]];
+        const Card& c = *s.lines[i].first;
+        const DataLine& d = c.data[s.lines[i].second];
         const std::string& item = s.items[i].first;
-        if (is_integer(item)) ids.push_back(integer(c, d, 0, "the node id"));
+        if (is_integer(item)) ids.push_back(id_number(c, d, 0, "the node id"));
         else {
+          implicit_set(upper(item));
           auto it = nset_ids_.find(upper(item));
           if (it == nset_ids_.end()) c.fail(d, "no node set named '" + upper(item) + "'");
           ids.insert(ids.end(), it->second.begin(), it->second.end());
@@ -1028,7 +1054,8 @@ void Translator::build_mesh(bool deck) {
       std::vector<Index> v;
       for (Index id : ids) {
         auto it = node_of_.find(id);
-        if (it == node_of_.end()) c.fail("surface " + name + " holds node " + std::to_string(id) + ", which is not defined");
+        if (it == node_of_.end())
+          throw InputError(s.where, "*SURFACE", "surface " + name + " holds node " + std::to_string(id) + ", which is not defined");
         v.push_back(it->second);
       }
       std::sort(v.begin(), v.end());
@@ -1056,7 +1083,8 @@ void Translator::build_mesh(bool deck) {
       if (blocks.empty()) mesh.facet_sets.erase(name);
     } else {
       for (size_t i = 0; i < s.items.size(); ++i) {
-        const DataLine& d = c.data[s.lines[i]];
+        const Card& c = *s.lines[i].first;
+        const DataLine& d = c.data[s.lines[i].second];
         const std::vector<Index> elems = elements_of(s.items[i].first, c, d);
         const std::string& face = s.items[i].second;
         if (face.empty()) {
@@ -1152,6 +1180,8 @@ void Translator::translate() {
         throw InputError(m.plastic_where, "*PLASTIC", "the first point of the hardening curve is at plastic strain 0");
       Real H = 0;
       if (t.size() >= 2) {
+        if (!(t.back().first > t.front().first))
+          throw InputError(m.plastic_where, "*PLASTIC", "the hardening curve's points are all at plastic strain 0");
         H = (t.back().second - t.front().second) / (t.back().first - t.front().first);
         for (auto& [eps, sig] : t)
           if (std::abs(t.front().second + H * eps - sig) > 1e-6 * std::abs(sig))
