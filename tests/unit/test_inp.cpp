@@ -272,6 +272,18 @@ TEST(Inp, MeshForAYamlDeck) {
                                          "*NSET, NSET=TOP\n3, 4, 6\n*SURFACE, NAME=TOPS, TYPE=NODE\nTOP\n"
                                          "*SURFACE, NAME=ALLSIDES\nB\n");
   Mesh m = read_inp_mesh(p.string());
+  // A YAML deck on it; order and parameters belong to .geo meshes and are refused here.
+  const fs::path y = write_temp("on_inp.yaml", "analysis: {dimension: plane_strain}\nmesh: {file: " + p.string() +
+                                                   ", order: 2}\nmaterials: {s: {model: linear_elastic, E: 1, nu: 0.3}}\n"
+                                                   "bodies: [{name: b, region: B, material: s}]\nsteps: [{name: s}]\n");
+  Registry r = default_registry();
+  try {
+    read_deck(y.string(), r);
+    ADD_FAILURE() << "order on an .inp mesh accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "mesh.order") << e.what();
+  }
+  fs::remove(y);
   fs::remove(p);
   EXPECT_EQ(m.regions.at("EALL")[0].size(), 2);
   EXPECT_EQ(m.node_sets.at("NALL").size(), 6u);

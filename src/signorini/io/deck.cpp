@@ -193,6 +193,9 @@ void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep, Mesh
   if (file.is_relative()) file = fs::path(m.deck_path).parent_path() / file;
   std::string ext = file.extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext == ".inp" && n.has("parameters")) n.child("parameters").fail("parameters apply to .geo files only");
+  if (ext == ".inp" && opt.order > 0)
+    n.child("order").fail("an .inp mesh keeps its element order (write the quadratic elements in the .inp)");
   if (preread) m.mesh = std::move(*preread);
   else if (ext == ".inp") m.mesh = read_inp_mesh(file.string());
   else m.mesh = read_gmsh(file.string(), opt);
