@@ -5,6 +5,7 @@
 # Each target runs SECONDS seconds from its seeds (fuzz/corpus/<kind>, plus the shipped
 # example decks and the CalculiX harness decks); a crash, a sanitizer report, a leak, an
 # exception other than an InputError, an input taking more than 10 s or 2 GB fails the run
+# (leaks inside Debian's libgmsh are suppressed: fuzz/lsan.supp)
 # and leaves the input under build-fuzz/artifacts/<target>/. The corpus grows in
 # build-fuzz/corpus/<target>/ from run to run.
 # Usage: scripts/fuzz.sh SECONDS [fuzz_deck fuzz_msh fuzz_inp]
@@ -44,6 +45,7 @@ for t in "${targets[@]}"; do
   echo "== $t: $secs s (seeds: $(ls "$seeds" | wc -l), corpus: $(ls "$corpus" | wc -l))"
   set +e
   ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
+  LSAN_OPTIONS="suppressions=$here/fuzz/lsan.supp:print_suppressions=0" \
     "$build/fuzz/$t" "$corpus" "$seeds" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
     -artifact_prefix="$artifacts/" -print_final_stats=1 >"$build/$t.log" 2>&1
   rc=$?
