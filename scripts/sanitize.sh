@@ -12,6 +12,6 @@ cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSIGNOR
   -DSIGNORINI_BUILD_PYTHON=OFF -DSIGNORINI_BUILD_BENCH=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
-cmake --build "$build" -j "$(nproc)" --target unit_tests verification_tests
+cmake --build "$build" -j "$(nproc)" --target signorini unit_tests verification_tests
 export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cd "$build" && ctest -L 'unit|verification' -E "${SANITIZE_EXCLUDE:-^$}" -j "$(nproc)" --output-on-failure --timeout 1800
