@@ -109,6 +109,22 @@ struct GmshSession {
   }
 };
 
+// Every node of the open Gmsh model: coordinates, tags and the index of each tag. Returns the
+// index of the first node with a non-finite coordinate, -1 if none.
+Index model_nodes(std::vector<Vec3>& xyz, std::vector<std::size_t>& tags, std::unordered_map<std::size_t, Index>& index) {
+  std::vector<double> coords, param;
+  gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);
+  index.reserve(tags.size());
+  xyz.resize(tags.size());
+  Index bad = -1;
+  for (size_t i = 0; i < tags.size(); ++i) {
+    index[tags[i]] = static_cast<Index>(i);
+    xyz[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+    if (bad < 0 && !xyz[i].allFinite()) bad = static_cast<Index>(i);
+  }
+  return bad;
+}
+
 std::string last_gmsh_error() {
   std::string e;
   try {
@@ -479,21 +495,14 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
     if (ext == ".geo" && generated.empty()) gmsh::model::mesh::generate(gmsh::model::getDimension());
     if (options.order > 0 && generated.empty()) gmsh::model::mesh::setOrder(options.order);
     std::vector<std::size_t> tags;
-    std::vector<double> coords, param;
-    gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);
     std::unordered_map<std::size_t, Index> index;
-    index.reserve(tags.size());
-    mesh.nodes.resize(tags.size());
-    mesh.node_ids.resize(tags.size());
-    for (size_t i = 0; i < tags.size(); ++i) {
-      index[tags[i]] = static_cast<Index>(i);
-      mesh.nodes[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
-      mesh.node_ids[i] = static_cast<Index>(tags[i]);
-      if (!mesh.nodes[i].allFinite())
-        throw InputError(ext == ".msh" ? path + nonfinite_line(path, tags[i]) : where, "mesh.file",
-                         fmt::format("node {} of '{}' has a non-finite coordinate ({}, {}, {})", tags[i], path,
-                                     coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]));
+    if (const Index bad = model_nodes(mesh.nodes, tags, index); bad >= 0) {
+      const Vec3& x = mesh.nodes[bad];
+      throw InputError(ext == ".msh" ? path + nonfinite_line(path, tags[bad]) : where, "mesh.file",
+                       fmt::format("node {} of '{}' has a non-finite coordinate ({}, {}, {})", tags[bad], path, x(0),
+                                   x(1), x(2)));
     }
+    mesh.node_ids.assign(tags.begin(), tags.end());
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups, -1);
     if (groups.empty())
@@ -565,17 +574,9 @@ SurfaceFile read_surface_file(const std::string& path) {
   try {
     gmsh::open(path);
     std::vector<std::size_t> tags;
-    std::vector<double> coords, param;
-    gmsh::model::mesh::getNodes(tags, coords, param, -1, -1, false, false);
     std::unordered_map<std::size_t, Index> index;
-    index.reserve(tags.size());
-    out.nodes.resize(tags.size());
-    for (size_t i = 0; i < tags.size(); ++i) {
-      index[tags[i]] = static_cast<Index>(i);
-      out.nodes[i] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
-      if (!out.nodes[i].allFinite())
-        throw InputError(path, "", fmt::format("node {} has a non-finite coordinate", tags[i]));
-    }
+    if (const Index bad = model_nodes(out.nodes, tags, index); bad >= 0)
+      throw InputError(path, "", fmt::format("node {} has a non-finite coordinate", tags[bad]));
     std::vector<int> types;
     std::vector<std::vector<std::size_t>> etags, enodes;
     gmsh::model::mesh::getElements(types, etags, enodes, 2, -1);
