@@ -138,7 +138,6 @@ class BucketGrid final : public ContactSearch {
     // allocates nothing.
     ids_.resize(n);
     position_.resize(n);
-    heights_.resize(n);
     Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
     Real edge2_sum = 0;
     const int edges = f.corners == 2 ? 1 : f.corners;
@@ -185,14 +184,12 @@ class BucketGrid final : public ContactSearch {
       set_dims();
     }
     const Index ncol = dims_[0] * dims_[1];
-    // Each facet's column and height, by its centre as stored (single precision), which
-    // the pruning measures from; the column is kept in position_ until the counting sort
-    // turns it into the slot.
+    // Each facet's column, by its centre as stored (single precision), which the pruning
+    // measures from; kept in position_ until the counting sort turns it into the slot.
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3f m = centre(f.facet(i), f.corners);
       position_[i] = static_cast<std::int32_t>(coord(m(v_), v_, dims_[1]) * dims_[0] + coord(m(u_), u_, dims_[0]));
-      heights_[i] = m(a);
     }
     // Counting sort of the facets by column (start_ shifted by one during the fill, then back).
     if (ncol >= static_cast<Index>(kTall)) throw Error("bucket_grid search: too many columns");
@@ -202,36 +199,50 @@ class BucketGrid final : public ContactSearch {
     for (Index i = 0; i < n; ++i) position_[i] = static_cast<std::int32_t>(start_[position_[i]]++);
     for (Index c = ncol; c > 0; --c) start_[c] = start_[c - 1];
     start_[0] = 0;
-    // The ids in column order (increasing within a column: the fill is serial), then each
-    // column sorted by height, ties by id (the same order whatever the threads).
-#pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) ids_[position_[i]] = static_cast<std::int32_t>(i);
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (Index c = 0; c < ncol; ++c) {
-      const Index b = start_[c], e = start_[c + 1];
-      if (e - b > 1)
-        std::sort(ids_.begin() + b, ids_.begin() + e, [&](std::int32_t x, std::int32_t y) {
-          return heights_[x] < heights_[y] || (heights_[x] == heights_[y] && x < y);
-        });
-    }
-    // A column whose facets spread along the axis by more than a cell is "tall": a query
-    // slices it by height; the others are tested whole, with their neighbours in the row.
-#pragma omp parallel for schedule(static)
-    for (Index c = 0; c < ncol; ++c) {
-      // start_[c + 1] may be flagged by another thread meanwhile: both as atomics (relaxed).
-      std::atomic_ref<std::uint32_t> first(start_[c]), next(start_[c + 1]);
-      const Index b = first.load(std::memory_order_relaxed) & kSlot, e = next.load(std::memory_order_relaxed) & kSlot;
-      if (e - b > 1 && heights_[ids_[e - 1]] - heights_[ids_[b]] > cell_) first.fetch_or(kTall, std::memory_order_relaxed);
-    }
-    // The bounds in column order, and the slot of each facet (the queries' hints).
+    // The bounds and ids written to their column's slots, reading the facets in their order
+    // (ids increasing within a column: the fill above is serial).
     bounds_.resize(n + 3);
-    float r = 0;
-#pragma omp parallel for schedule(static) reduction(max : r)
-    for (Index k = 0; k < n; ++k) {
-      position_[ids_[k]] = static_cast<std::int32_t>(k);
-      bounds_[k] = make_bound(f.facet(ids_[k]), f.corners);
-      r = std::max(r, bounds_[k].r);
+    const float r = f.corners == 2 ? write_bounds<2>(f) : f.corners == 3 ? write_bounds<3>(f) : write_bounds<4>(f);
+    // Each column sorted by height, ties by id (the same order whatever the threads). A
+    // column whose facets spread along the axis by more than a cell is "tall": a query
+    // slices it by height; the others are tested whole, with their neighbours in the row.
+#pragma omp parallel
+    {
+      std::vector<std::pair<Bound, std::int32_t>> col;  // per thread
+#pragma omp for schedule(dynamic, 1024)
+      for (Index c = 0; c < ncol; ++c) {
+        // start_[c + 1] may be flagged by another thread meanwhile: both as atomics (relaxed).
+        std::atomic_ref<std::uint32_t> first(start_[c]), next(start_[c + 1]);
+        const Index b = first.load(std::memory_order_relaxed) & kSlot, e = next.load(std::memory_order_relaxed) & kSlot;
+        if (e - b < 2) continue;
+        auto before = [a](const Bound& x, std::int32_t ix, const Bound& y, std::int32_t iy) {
+          return x.c[a] < y.c[a] || (x.c[a] == y.c[a] && ix < iy);
+        };
+        if (e - b <= 16) {  // insertion sort in place (most columns hold a few facets)
+          for (Index k = b + 1; k < e; ++k) {
+            const Bound x = bounds_[k];
+            const std::int32_t ix = ids_[k];
+            Index q = k;
+            for (; q > b && before(x, ix, bounds_[q - 1], ids_[q - 1]); --q) {
+              bounds_[q] = bounds_[q - 1];
+              ids_[q] = ids_[q - 1];
+            }
+            bounds_[q] = x;
+            ids_[q] = ix;
+          }
+        } else {
+          col.clear();
+          for (Index k = b; k < e; ++k) col.emplace_back(bounds_[k], ids_[k]);
+          std::sort(col.begin(), col.end(),
+                    [&](const auto& x, const auto& y) { return before(x.first, x.second, y.first, y.second); });
+          for (Index k = b; k < e; ++k) std::tie(bounds_[k], ids_[k]) = col[k - b];
+        }
+        if (bounds_[e - 1].c[a] - bounds_[b].c[a] > cell_) first.fetch_or(kTall, std::memory_order_relaxed);
+      }
     }
+    // The slot of each facet (the queries' hints).
+#pragma omp parallel for schedule(static)
+    for (Index k = 0; k < n; ++k) position_[ids_[k]] = static_cast<std::int32_t>(k);
     rmax_ = r;
     abs_max_ = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) + rmax_;
     // Padding read by the four-wide test past the last slot: NaN centres never pass.
@@ -259,23 +270,27 @@ class BucketGrid final : public ContactSearch {
     float pad;
   };
 
+  // The centre of a facet as stored (the same bits wherever it is computed).
   static Eigen::Vector3f centre(const Vec3* c, int corners) {
     Vec3 m = Vec3::Zero();
     for (int q = 0; q < corners; ++q) m += c[q];
-    return (m / corners).cast<float>();
+    return (m * (1.0 / corners)).cast<float>();
   }
-  static Bound make_bound(const Vec3* c, int corners) {
+  template <int N>
+  static Bound make_bound(const Vec3* c) {
     Bound b;
-    const Eigen::Vector3f m = centre(c, corners);
+    const Eigen::Vector3f m = centre(c, N);
     const Vec3 cf = m.cast<Real>();
     Real r2 = 0;
-    for (int j = 0; j < corners; ++j) r2 = std::max(r2, (c[j] - cf).squaredNorm());
-    b.r = std::nextafter(static_cast<float>(std::sqrt(r2)), std::numeric_limits<float>::infinity());
+    for (int j = 0; j < N; ++j) r2 = std::max(r2, (c[j] - cf).squaredNorm());
+    // Rounded up: float() and sqrtf err by 2^-24 relative at most, the product too,
+    // (1 + 2^-21) more.
+    b.r = std::sqrt(static_cast<float>(r2)) * (1 + 0x1p-21f);
     Vec3 nrm = Vec3::Zero();
-    if (corners == 3) {
+    if constexpr (N == 3) {
       nrm = (c[1] - c[0]).cross(c[2] - c[0]);
       const Real len = nrm.norm();
-      nrm = len > 0 ? Vec3(nrm / len) : Vec3::Zero();
+      if (len > 0) nrm *= 1 / len;
     }
     for (int d = 0; d < 3; ++d) {
       b.c[d] = m(d);
@@ -283,6 +298,27 @@ class BucketGrid final : public ContactSearch {
     }
     b.pad = 0;
     return b;
+  }
+  // The bounds and ids written to their column's slots (position_), reading the facets in
+  // their order; the largest radius.
+  template <int N>
+  float write_bounds(const SearchFacets& f) {
+    float r = 0;
+    const Index n = f.size();
+#pragma omp parallel for schedule(static) reduction(max : r)
+    for (Index i = 0; i < n; ++i) {
+      const Index k = position_[i];
+      // The slots are scattered: fetch ahead the lines written a few facets later.
+      if (i + 16 < n) {
+        __builtin_prefetch(&bounds_[position_[i + 16]], 1);
+        __builtin_prefetch(&ids_[position_[i + 16]], 1);
+      }
+      const Bound bd = make_bound<N>(f.facet(i));
+      bounds_[k] = bd;
+      ids_[k] = static_cast<std::int32_t>(i);
+      r = std::max(r, bd.r);
+    }
+    return r;
   }
   // The cell of coordinate x along axis d, clamped to the grid (no floor needed: below 0 is 0).
   Index coord(Real x, int d, Index dim) const {
@@ -328,32 +364,39 @@ class BucketGrid final : public ContactSearch {
   // slices of the columns at the query's height, merged where contiguous, go to test_run.
   template <int N>
   void scan(const Vec3& p, Best& b) const {
-    const Real reach = b.bound + rmax_;
-    const Index ulo = coord(p(u_) - reach, u_, dims_[0]), uhi = coord(p(u_) + reach, u_, dims_[0]);
-    const Index vlo = coord(p(v_) - reach, v_, dims_[1]), vhi = coord(p(v_) + reach, v_, dims_[1]);
-    const int a = axis_;
-    const Real alo = p(a) - reach, ahi = p(a) + reach;
     // Float error allowance of the sphere tests (see test_run).
     const Real tol = 1e-5 * std::max(abs_max_, p.cwiseAbs().maxCoeff());
-    for (Index j = vlo; j <= vhi; ++j) {
-      const Index c0 = j * dims_[0] + ulo, c1 = j * dims_[0] + uhi;
-      Index rb = start_[c0] & kSlot, re = rb;  // the run of whole columns
-      for (Index c = c0; c <= c1; ++c) {
-        const std::uint32_t sc = start_[c];
-        const Index e = start_[c + 1] & kSlot;
-        if (!(sc & kTall)) {
-          re = e;
-          continue;
-        }
-        test_run<N>(rb, re, p, tol, b);
-        Index r = sc & kSlot, rend = e;
-        if (bounds_[r].c[a] < alo) r = first_above(r, rend, alo, true);
-        if (r < rend && bounds_[rend - 1].c[a] > ahi) rend = first_above(r, rend, ahi, false);
-        test_run<N>(r, rend, p, tol, b);
-        rb = re = e;
+    // The row of columns holding p first, then outwards on either side: each row's extent
+    // is that of the best distance found so far, which the nearest rows usually settle.
+    const Index jc = coord(p(v_), v_, dims_[1]);
+    for (Index j = jc; j >= 0 && j >= coord(p(v_) - (b.bound + rmax_), v_, dims_[1]); --j) scan_row<N>(j, p, tol, b);
+    for (Index j = jc + 1; j < dims_[1] && j <= coord(p(v_) + (b.bound + rmax_), v_, dims_[1]); ++j)
+      scan_row<N>(j, p, tol, b);
+  }
+  // The columns of row j that can hold a facet closer than b.bound: the slices of the tall
+  // ones at the query's height, the others whole, merged where contiguous.
+  template <int N>
+  void scan_row(Index j, const Vec3& p, Real tol, Best& b) const {
+    const Real reach = b.bound + rmax_;
+    const Index c0 = j * dims_[0] + coord(p(u_) - reach, u_, dims_[0]), c1 = j * dims_[0] + coord(p(u_) + reach, u_, dims_[0]);
+    const int a = axis_;
+    const Real alo = p(a) - reach, ahi = p(a) + reach;
+    Index rb = start_[c0] & kSlot, re = rb;  // the run of whole columns
+    for (Index c = c0; c <= c1; ++c) {
+      const std::uint32_t sc = start_[c];
+      const Index e = start_[c + 1] & kSlot;
+      if (!(sc & kTall)) {
+        re = e;
+        continue;
       }
       test_run<N>(rb, re, p, tol, b);
+      Index r = sc & kSlot, rend = e;
+      if (bounds_[r].c[a] < alo) r = first_above(r, rend, alo, true);
+      if (r < rend && bounds_[rend - 1].c[a] > ahi) rend = first_above(r, rend, ahi, false);
+      test_run<N>(r, rend, p, tol, b);
+      rb = re = e;
     }
+    test_run<N>(rb, re, p, tol, b);
   }
 
   // The facets of slots [rb, re) that can be closer than b.bound get their exact distance.
@@ -445,14 +488,13 @@ class BucketGrid final : public ContactSearch {
   int corners_ = 3;
   int axis_ = 2, u_ = 0, v_ = 1;      // the sorted axis and the two axes of the columns
   std::vector<Bound> bounds_;         // in column order (the hot loop), three padding records
-  std::vector<float> heights_;        // the build's scratch: each facet's height
   std::vector<std::int32_t> ids_;       // facet id of each slot
   std::vector<std::int32_t> position_;  // slot of each facet
   // First slot of each column (kSlot bits), and kTall if the column is sliced by height.
   static constexpr std::uint32_t kTall = 0x80000000u, kSlot = 0x7fffffffu;
   // Column width in root-mean-square edge lengths (measured on the benchmark: 0.7 to 2
   // within 15 %).
-  static constexpr Real kCellEdges = 1.0;
+  static constexpr Real kCellEdges = 0.7;
   std::vector<std::uint32_t> start_;
   Vec3 lo_ = Vec3::Zero();
   Real cell_ = 1, inv_cell_ = 1, rmax_ = 0, abs_max_ = 0;
