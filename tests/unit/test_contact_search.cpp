@@ -19,7 +19,8 @@ void expect_all_agree(const SearchFacets& facets, const std::vector<Vec3>& pts, 
   Index found = 0;
   for (auto& h : ref) found += h.facet >= 0;
   EXPECT_GT(found, 0) << what;
-  for (const char* m : {"bucket_grid", "bvh"}) {
+  // bucket_grid_scalar: the grid without SSE2 (what other processors run).
+  for (const char* m : {"bucket_grid", "bucket_grid_scalar", "bvh"}) {
     auto s = make_search(m);
     for (int pass = 0; pass < 2; ++pass) {  // the second build reuses buffers
       s->build(facets);
@@ -138,4 +139,41 @@ TEST(ContactSearch, ClosedBoxSurface) {
   std::vector<Vec3> pts;
   for (int i = 0; i < 1500; ++i) pts.emplace_back(1.4 * rnd() - 0.2, 2.4 * rnd() - 0.2, 0.9 * rnd() - 0.2);
   expect_all_agree(box, pts, 0.15, "closed box");
+}
+
+// Far from the origin: the grid's single precision pruning works on coordinates relative to
+// the surface's own corner, so a surface 1e6 away (a part placed in a large assembly) is
+// searched as exactly as one at the origin.
+TEST(ContactSearch, SurfaceFarFromTheOrigin) {
+  SampleSurfaces s = sample_surfaces(3000, 4000);
+  const Vec3 shift(1e6, -3e5, 2e4);
+  for (Vec3& x : s.master.points) x += shift;
+  for (Vec3& x : s.slave_nodes) x += shift;
+  expect_all_agree(s.master, s.slave_nodes, 2 * s.master.mean_edge_length(), "shifted by 1e6");
+}
+
+// A long thin strip of small triangles (length / edge = 1e4) with points on it, 1e-12 above
+// it and beside it: the pruning's rounding allowance, relative to the surface's size, stays
+// below a facet and never hides the closest one.
+TEST(ContactSearch, LongThinStripAndPointsOnIt) {
+  SearchFacets strip;
+  strip.corners = 3;
+  const int n = 10000;
+  const Real h = 1.0 / n;
+  for (int i = 0; i < n; ++i) {
+    const Real x0 = i * h, x1 = (i + 1) * h;
+    const Vec3 a(x0, 0, 0), b(x1, 0, 0), c(x1, h, 0.1 * h), d(x0, h, 0.1 * h);
+    strip.points.insert(strip.points.end(), {a, b, c, a, c, d});
+  }
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 3000; ++i) {
+    const Real x = rnd(), y = h * rnd();
+    const Real z = 0.1 * y;  // on the strip
+    switch (i % 3) {
+      case 0: pts.emplace_back(x, y, z); break;
+      case 1: pts.emplace_back(x, y, z + 1e-12); break;
+      default: pts.emplace_back(x, y + 3 * h * rnd(), z - 2 * h * rnd()); break;
+    }
+  }
+  expect_all_agree(strip, pts, 5 * h, "thin strip");
 }

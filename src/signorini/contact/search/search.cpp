@@ -125,6 +125,9 @@ template <int N>
 // (neighbouring nodes have neighbouring answers), then visits only what can still hold a
 // closer facet, pruning four facets at a time by a lower bound of their distance (sphere
 // and plane, see test_run) before the exact distance.
+// Simd = false tests every facet alone in double precision (the path taken without SSE2;
+// make_search("bucket_grid_scalar") lets the tests run it everywhere).
+template <bool Simd>
 class BucketGrid final : public ContactSearch {
  public:
   std::string name() const override { return "bucket_grid"; }
@@ -152,7 +155,7 @@ class BucketGrid final : public ContactSearch {
       for (Index i = k * block; i < std::min(n, (k + 1) * block); ++i) {
         const Vec3* c = f.facet(i);
         for (int q = 0; q < edges; ++q) be[k] += (c[q + 1 < f.corners ? q + 1 : 0] - c[q]).squaredNorm();
-        const Vec3 m = centre(c, f.corners).cast<Real>();
+        const Vec3 m = centroid(c, f.corners);
         blo[k] = blo[k].cwiseMin(m);
         bhi[k] = bhi[k].cwiseMax(m);
       }
@@ -189,7 +192,7 @@ class BucketGrid final : public ContactSearch {
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3f m = centre(f.facet(i), f.corners);
-      position_[i] = static_cast<std::int32_t>(coord(m(v_), v_, dims_[1]) * dims_[0] + coord(m(u_), u_, dims_[0]));
+      position_[i] = static_cast<std::int32_t>(coord(m(v_), dims_[1]) * dims_[0] + coord(m(u_), dims_[0]));
     }
     // Counting sort of the facets by column (start_ shifted by one during the fill, then back).
     if (ncol >= static_cast<Index>(kTall)) throw Error("bucket_grid search: too many columns");
@@ -244,7 +247,7 @@ class BucketGrid final : public ContactSearch {
 #pragma omp parallel for schedule(static)
     for (Index k = 0; k < n; ++k) position_[ids_[k]] = static_cast<std::int32_t>(k);
     rmax_ = r;
-    abs_max_ = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()) + rmax_;
+    ext_max_ = ext.maxCoeff() + rmax_;
     // Padding read by the four-wide test past the last slot: NaN centres never pass.
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (Index k = n; k < n + 3; ++k) bounds_[k] = Bound{{nan, nan, nan}, nan, {0, 0, 0}, 0};
@@ -270,17 +273,19 @@ class BucketGrid final : public ContactSearch {
     float pad;
   };
 
-  // The centre of a facet as stored (the same bits wherever it is computed).
-  static Eigen::Vector3f centre(const Vec3* c, int corners) {
+  static Vec3 centroid(const Vec3* c, int corners) {
     Vec3 m = Vec3::Zero();
     for (int q = 0; q < corners; ++q) m += c[q];
-    return (m * (1.0 / corners)).cast<float>();
+    return m * (1.0 / corners);
   }
+  // The centre of a facet as stored: relative to the grid's lower corner lo_, in single
+  // precision (the same bits wherever it is computed).
+  Eigen::Vector3f centre(const Vec3* c, int corners) const { return (centroid(c, corners) - lo_).cast<float>(); }
   template <int N>
-  static Bound make_bound(const Vec3* c) {
+  Bound make_bound(const Vec3* c) const {
     Bound b;
     const Eigen::Vector3f m = centre(c, N);
-    const Vec3 cf = m.cast<Real>();
+    const Vec3 cf = m.cast<Real>() + lo_;  // the stored centre, in absolute coordinates
     Real r2 = 0;
     for (int j = 0; j < N; ++j) r2 = std::max(r2, (c[j] - cf).squaredNorm());
     // Rounded up: float() and sqrtf err by 2^-24 relative at most, the product too,
@@ -320,9 +325,10 @@ class BucketGrid final : public ContactSearch {
     }
     return r;
   }
-  // The cell of coordinate x along axis d, clamped to the grid (no floor needed: below 0 is 0).
-  Index coord(Real x, int d, Index dim) const {
-    const Real t = (x - lo_(d)) * inv_cell_;
+  // The cell of coordinate x (relative to lo_), clamped to the grid (no floor needed:
+  // below 0 is 0).
+  Index coord(Real x, Index dim) const {
+    const Real t = x * inv_cell_;
     if (!(t > 0)) return 0;
     return t < static_cast<Real>(dim - 1) ? static_cast<Index>(t) : dim - 1;
   }
@@ -360,27 +366,25 @@ class BucketGrid final : public ContactSearch {
     }
     return r;
   }
-  // Best facet among those that can be closer than b.bound. In each row of columns, the
-  // slices of the columns at the query's height, merged where contiguous, go to test_run.
+  // Best facet among those that can be closer than b.bound to p; q is p relative to lo_.
+  // The row of columns holding p first, then outwards on either side: each row's extent is
+  // that of the best distance found so far, which the nearest rows usually settle.
   template <int N>
-  void scan(const Vec3& p, Best& b) const {
-    // Float error allowance of the sphere tests (see test_run).
-    const Real tol = 1e-5 * std::max(abs_max_, p.cwiseAbs().maxCoeff());
-    // The row of columns holding p first, then outwards on either side: each row's extent
-    // is that of the best distance found so far, which the nearest rows usually settle.
-    const Index jc = coord(p(v_), v_, dims_[1]);
-    for (Index j = jc; j >= 0 && j >= coord(p(v_) - (b.bound + rmax_), v_, dims_[1]); --j) scan_row<N>(j, p, tol, b);
-    for (Index j = jc + 1; j < dims_[1] && j <= coord(p(v_) + (b.bound + rmax_), v_, dims_[1]); ++j)
-      scan_row<N>(j, p, tol, b);
+  void scan(const Vec3& p, const Vec3& q, Best& b) const {
+    const Real x = std::max(ext_max_, q.cwiseAbs().maxCoeff());  // scale of the test's rounding
+    const Index jc = coord(q(v_), dims_[1]);
+    for (Index j = jc; j >= 0 && j >= coord(q(v_) - (b.bound + rmax_), dims_[1]); --j) scan_row<N>(j, p, q, x, b);
+    for (Index j = jc + 1; j < dims_[1] && j <= coord(q(v_) + (b.bound + rmax_), dims_[1]); ++j)
+      scan_row<N>(j, p, q, x, b);
   }
   // The columns of row j that can hold a facet closer than b.bound: the slices of the tall
   // ones at the query's height, the others whole, merged where contiguous.
   template <int N>
-  void scan_row(Index j, const Vec3& p, Real tol, Best& b) const {
+  void scan_row(Index j, const Vec3& p, const Vec3& q, Real x, Best& b) const {
     const Real reach = b.bound + rmax_;
-    const Index c0 = j * dims_[0] + coord(p(u_) - reach, u_, dims_[0]), c1 = j * dims_[0] + coord(p(u_) + reach, u_, dims_[0]);
+    const Index c0 = j * dims_[0] + coord(q(u_) - reach, dims_[0]), c1 = j * dims_[0] + coord(q(u_) + reach, dims_[0]);
     const int a = axis_;
-    const Real alo = p(a) - reach, ahi = p(a) + reach;
+    const Real alo = q(a) - reach, ahi = q(a) + reach;
     Index rb = start_[c0] & kSlot, re = rb;  // the run of whole columns
     for (Index c = c0; c <= c1; ++c) {
       const std::uint32_t sc = start_[c];
@@ -389,75 +393,82 @@ class BucketGrid final : public ContactSearch {
         re = e;
         continue;
       }
-      test_run<N>(rb, re, p, tol, b);
+      test_run<N>(rb, re, p, q, x, b);
       Index r = sc & kSlot, rend = e;
       if (bounds_[r].c[a] < alo) r = first_above(r, rend, alo, true);
       if (r < rend && bounds_[rend - 1].c[a] > ahi) rend = first_above(r, rend, ahi, false);
-      test_run<N>(r, rend, p, tol, b);
+      test_run<N>(r, rend, p, q, x, b);
       rb = re = e;
     }
-    test_run<N>(rb, re, p, tol, b);
+    test_run<N>(rb, re, p, q, x, b);
   }
 
   // The facets of slots [rb, re) that can be closer than b.bound get their exact distance.
   // A facet within the sphere of radius r about c, in the plane through c of unit normal n,
   // is at a distance d >= sqrt(h^2 + max(0, rho - r)^2) from p, where h = n.(p - c) and rho
   // is the length of (p - c) - h n, the in-plane offset (rho = |p - c| and the bound is the
-  // sphere's when n = 0). With SSE2 four facets are tested at once in single precision: h
-  // and rho are lowered by tol = 1e-5 times the largest coordinate and the squared reach
-  // enlarged by 1e-5 relative, far more than the rounding of the coordinates to float
-  // (2^-24 relative) and of the test itself, so no facet that can be closer is skipped (a
-  // few more are measured exactly). bounds_ is padded with three records that never pass,
-  // so a group of four may run past re: the extra slots are real facets or padding, and
-  // measuring a real facet is always correct.
+  // sphere's when n = 0). The test runs in single precision on coordinates relative to
+  // lo_, whose size x is that of the surface, not of its position: the stored centre and
+  // normal are rounded (2^-24 relative, so the corners may lie off the stored plane by
+  // about 2^-24 (x + r)) and so is the arithmetic (a few 2^-24 (x + |d|)). h and rho are
+  // lowered by tol = 2^-16 (x + bound), ten times more than these errors add up to, and the
+  // squared reach is enlarged by 1e-5 relative: no facet that can be closer is skipped (a
+  // few more are measured exactly). With SSE2 four facets are tested at once; bounds_ is
+  // padded with three records that never pass, so a group of four may run past re: the
+  // extra slots are real facets or padding, and measuring a real facet is always correct.
   template <int N>
-  [[gnu::always_inline]] inline void test_run(Index rb, Index re, const Vec3& p, Real tol, Best& b) const {
+  [[gnu::always_inline]] inline void test_run(Index rb, Index re, const Vec3& p, const Vec3& q, Real x, Best& b) const {
+    const float tol = static_cast<float>(0x1p-16 * (x + b.bound));
 #ifdef __SSE2__
-    const __m128 px = _mm_set1_ps(static_cast<float>(p(0))), py = _mm_set1_ps(static_cast<float>(p(1))),
-                 pz = _mm_set1_ps(static_cast<float>(p(2))), tl = _mm_set1_ps(static_cast<float>(tol)),
-                 zero = _mm_setzero_ps(), sign = _mm_set1_ps(-0.0f);
-    for (Index k = rb; k < re; k += 4) {
-      __m128 x = _mm_loadu_ps(bounds_[k].c), y = _mm_loadu_ps(bounds_[k + 1].c), z = _mm_loadu_ps(bounds_[k + 2].c),
-             r = _mm_loadu_ps(bounds_[k + 3].c);
-      _MM_TRANSPOSE4_PS(x, y, z, r);  // centres' x, y, z and the radii of the four
-      __m128 nx = _mm_loadu_ps(bounds_[k].n), ny = _mm_loadu_ps(bounds_[k + 1].n),
-             nz = _mm_loadu_ps(bounds_[k + 2].n), unused = _mm_loadu_ps(bounds_[k + 3].n);
-      _MM_TRANSPOSE4_PS(nx, ny, nz, unused);
-      const __m128 dx = _mm_sub_ps(px, x), dy = _mm_sub_ps(py, y), dz = _mm_sub_ps(pz, z);
-      const __m128 h = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, nx), _mm_mul_ps(dy, ny)), _mm_mul_ps(dz, nz));
-      const __m128 ex = _mm_sub_ps(dx, _mm_mul_ps(h, nx)), ey = _mm_sub_ps(dy, _mm_mul_ps(h, ny)),
-                   ez = _mm_sub_ps(dz, _mm_mul_ps(h, nz));
-      const __m128 rho = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey)), _mm_mul_ps(ez, ez)));
-      const __m128 t = _mm_max_ps(zero, _mm_sub_ps(_mm_sub_ps(rho, r), tl));
-      const __m128 hl = _mm_max_ps(zero, _mm_sub_ps(_mm_andnot_ps(sign, h), tl));
-      const float reach = static_cast<float>(b.bound);
-      const __m128 reach2 = _mm_set1_ps(reach * reach * (1 + 1e-5f));
-      const __m128 lower2 = _mm_add_ps(_mm_mul_ps(hl, hl), _mm_mul_ps(t, t));
-      for (int m = _mm_movemask_ps(_mm_cmple_ps(lower2, reach2)); m; m &= m - 1)
-        consider<N>(k + __builtin_ctz(m), p, b);
-    }
-#else
-    (void)tol;
-    for (Index k = rb; k < re; ++k) {
-      const Bound& f = bounds_[k];
-      const Vec3 d(p(0) - f.c[0], p(1) - f.c[1], p(2) - f.c[2]);
-      const Vec3 nrm(f.n[0], f.n[1], f.n[2]);
-      const Real h = nrm.dot(d);
-      const Real t = std::max(0.0, (d - h * nrm).norm() - f.r);
-      // Lowered by 1e-6 relative for the rounding of the normal to float.
-      if ((h * h + t * t) * (1 - 1e-6) <= b.bound * b.bound) consider<N>(k, p, b);
+    if constexpr (Simd) {
+      const __m128 px = _mm_set1_ps(static_cast<float>(q(0))), py = _mm_set1_ps(static_cast<float>(q(1))),
+                   pz = _mm_set1_ps(static_cast<float>(q(2))), tl = _mm_set1_ps(tol), zero = _mm_setzero_ps(),
+                   sign = _mm_set1_ps(-0.0f);
+      for (Index k = rb; k < re; k += 4) {
+        __m128 cx = _mm_loadu_ps(bounds_[k].c), cy = _mm_loadu_ps(bounds_[k + 1].c), cz = _mm_loadu_ps(bounds_[k + 2].c),
+               r = _mm_loadu_ps(bounds_[k + 3].c);
+        _MM_TRANSPOSE4_PS(cx, cy, cz, r);  // centres' x, y, z and the radii of the four
+        __m128 nx = _mm_loadu_ps(bounds_[k].n), ny = _mm_loadu_ps(bounds_[k + 1].n),
+               nz = _mm_loadu_ps(bounds_[k + 2].n), unused = _mm_loadu_ps(bounds_[k + 3].n);
+        _MM_TRANSPOSE4_PS(nx, ny, nz, unused);
+        const __m128 dx = _mm_sub_ps(px, cx), dy = _mm_sub_ps(py, cy), dz = _mm_sub_ps(pz, cz);
+        const __m128 h = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, nx), _mm_mul_ps(dy, ny)), _mm_mul_ps(dz, nz));
+        const __m128 ex = _mm_sub_ps(dx, _mm_mul_ps(h, nx)), ey = _mm_sub_ps(dy, _mm_mul_ps(h, ny)),
+                     ez = _mm_sub_ps(dz, _mm_mul_ps(h, nz));
+        const __m128 rho = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey)), _mm_mul_ps(ez, ez)));
+        const __m128 t = _mm_max_ps(zero, _mm_sub_ps(_mm_sub_ps(rho, r), tl));
+        const __m128 hl = _mm_max_ps(zero, _mm_sub_ps(_mm_andnot_ps(sign, h), tl));
+        const __m128 lower2 = _mm_add_ps(_mm_mul_ps(hl, hl), _mm_mul_ps(t, t));
+        for (int m = _mm_movemask_ps(_mm_cmple_ps(lower2, _mm_set1_ps(reach2(b.bound)))); m; m &= m - 1)
+          consider<N>(k + __builtin_ctz(m), p, b);
+      }
+      return;
     }
 #endif
+    for (Index k = rb; k < re; ++k) {
+      const Bound& f = bounds_[k];
+      const Vec3 d(q(0) - f.c[0], q(1) - f.c[1], q(2) - f.c[2]);
+      const Vec3 nrm(f.n[0], f.n[1], f.n[2]);
+      const Real h = nrm.dot(d);
+      const Real t = std::max(0.0, (d - h * nrm).norm() - f.r - tol), hl = std::max(0.0, std::abs(h) - tol);
+      if (hl * hl + t * t <= reach2(b.bound)) consider<N>(k, p, b);
+    }
+  }
+  // The squared reach of the test, enlarged for its rounding.
+  static float reach2(Real bound) {
+    const float r = static_cast<float>(bound);
+    return r * r * (1 + 1e-5f);
   }
   template <int N>
   SearchHit query(const Vec3& p, Real dmax, Index hint) const {
+    const Vec3 q = p - lo_;
     Best b;
     if (hint >= 0) {
       const Real d = std::sqrt(facet_distance2<N>(facets_->points.data() + static_cast<Index>(ids_[hint]) * N, p));
       if (d <= dmax) {
         b.hit = {ids_[hint], d};
         b.set_bound(d);
-        scan<N>(p, b);
+        scan<N>(p, q, b);
         return b.hit;
       }
     }
@@ -465,7 +476,7 @@ class BucketGrid final : public ContactSearch {
     for (Real r = cell_;; r *= 2) {
       const Real limit = std::min(r, dmax);
       b.set_bound(std::nextafter(limit, kInf));
-      scan<N>(p, b);
+      scan<N>(p, q, b);
       if (b.hit.facet >= 0 || limit >= dmax) return b.hit;
     }
   }
@@ -497,7 +508,7 @@ class BucketGrid final : public ContactSearch {
   static constexpr Real kCellEdges = 0.7;
   std::vector<std::uint32_t> start_;
   Vec3 lo_ = Vec3::Zero();
-  Real cell_ = 1, inv_cell_ = 1, rmax_ = 0, abs_max_ = 0;
+  Real cell_ = 1, inv_cell_ = 1, rmax_ = 0, ext_max_ = 0;  // ext_max_: the grid's size
   Index dims_[2] = {1, 1};
 };
 
@@ -635,7 +646,8 @@ const std::vector<std::string>& search_method_names() {
 }
 
 std::unique_ptr<ContactSearch> make_search(const std::string& method) {
-  if (method == "bucket_grid") return std::make_unique<BucketGrid>();
+  if (method == "bucket_grid") return std::make_unique<BucketGrid<true>>();
+  if (method == "bucket_grid_scalar") return std::make_unique<BucketGrid<false>>();  // for the tests
   if (method == "bvh") return std::make_unique<AabbTree>();
   if (method == "all_to_all") return std::make_unique<AllToAll>();
   throw Error("unknown search method '" + method + "' (bucket_grid, bvh, all_to_all)");
