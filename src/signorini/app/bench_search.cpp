@@ -91,7 +91,7 @@ int bench_search(const BenchSearchOptions& o) {
   const bool files = !o.slave_file.empty() || !o.master_file.empty();
   if (files && (o.slave_file.empty() || o.master_file.empty()))
     throw InputError("bench search", "", "--slave and --master go together");
-  SampleSurfaces s = files ? read_surfaces(o.slave_file, o.master_file) : sample_surfaces(o.slave_nodes, o.master_facets);
+  SampleSurfaces s = files ? read_surfaces(o.slave_file, o.master_file) : sample_surfaces(o.slave_nodes, o.master_facets, o.gap);
   if (!o.write_dir.empty()) {
     write_surfaces(s, o.write_dir);
     fmt::print("surfaces written to {}/slave.msh and {}/master.msh\n", o.write_dir, o.write_dir);

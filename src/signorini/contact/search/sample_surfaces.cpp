@@ -11,7 +11,7 @@ Real wave(Real x, Real y) {
 }
 }  // namespace
 
-SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets) {
+SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets, Real gap) {
   SampleSurfaces s;
   const Index ns = std::max<Index>(2, static_cast<Index>(std::lround(std::sqrt(static_cast<double>(slave_nodes)))));
   s.slave_nodes.resize(ns * ns);
@@ -19,7 +19,7 @@ SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets) {
   for (Index j = 0; j < ns; ++j)
     for (Index i = 0; i < ns; ++i) {
       const Real x = static_cast<Real>(i) / (ns - 1), y = static_cast<Real>(j) / (ns - 1);
-      s.slave_nodes[j * ns + i] = Vec3(x, y, wave(x, y) + 1e-3);
+      s.slave_nodes[j * ns + i] = Vec3(x, y, wave(x, y) + gap);
     }
   // Master: a grid of (nm x nm) squares, two triangles each, rotated by 7 degrees about the
   // centre and enlarged so that it covers the slave sheet.

@@ -13,7 +13,8 @@ struct SampleSurfaces {
   SearchFacets master;
 };
 
-// About `slave_nodes` nodes and `master_facets` triangles on the unit square.
-SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets);
+// About `slave_nodes` nodes and `master_facets` triangles on the unit square, the slave
+// sheet `gap` above the master.
+SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets, Real gap = 1e-3);
 
 }  // namespace signorini
