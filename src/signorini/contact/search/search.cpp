@@ -418,7 +418,7 @@ class BucketGrid final : public ContactSearch {
   // extra slots are real facets or padding, and measuring a real facet is always correct.
   template <int N>
   [[gnu::always_inline]] inline void test_run(Index rb, Index re, const Vec3& p, const Vec3& q, Real x, Best& b) const {
-    const float tol = static_cast<float>(0x1p-16 * (x + b.bound));
+    const float tol = to_float(0x1p-16 * (x + b.bound));
 #ifdef __SSE2__
     if constexpr (Simd) {
       const __m128 px = _mm_set1_ps(static_cast<float>(q(0))), py = _mm_set1_ps(static_cast<float>(q(1))),
@@ -456,9 +456,12 @@ class BucketGrid final : public ContactSearch {
   }
   // The squared reach of the test, enlarged for its rounding.
   static float reach2(Real bound) {
-    const float r = static_cast<float>(bound);
+    const float r = to_float(bound);
     return r * r * (1 + 1e-5f);
   }
+  // A bound in single precision: above the float range it is the largest float (which
+  // passes every test), not an undefined conversion.
+  static float to_float(Real x) { return static_cast<float>(std::min<Real>(x, std::numeric_limits<float>::max())); }
   template <int N>
   SearchHit query(const Vec3& p, Real dmax, Index hint) const {
     const Vec3 q = p - lo_;
