@@ -177,3 +177,23 @@ TEST(ContactSearch, LongThinStripAndPointsOnIt) {
   }
   expect_all_agree(strip, pts, 5 * h, "thin strip");
 }
+
+// Warped quadrilaterals (corners up to half an edge off their mean plane): the grid bounds
+// each by the slab about the plane of its diagonals, so points just above, below and beside
+// them still find the closest.
+TEST(ContactSearch, WarpedQuadrilaterals) {
+  SearchFacets quads;
+  quads.corners = 4;
+  const int n = 30;
+  const Real h = 1.0 / n;
+  std::vector<Real> z((n + 1) * (n + 1));
+  for (Real& v : z) v = 0.5 * h * (2 * rnd() - 1);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      auto v = [&](int a, int b) { return Vec3(a * h, b * h, z[b * (n + 1) + a]); };
+      quads.points.insert(quads.points.end(), {v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 3000; ++k) pts.emplace_back(rnd(), rnd(), 1.2 * h * (2 * rnd() - 1));
+  expect_all_agree(quads, pts, 2 * h, "warped quadrilaterals");
+}

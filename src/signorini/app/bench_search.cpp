@@ -91,7 +91,7 @@ int bench_search(const BenchSearchOptions& o) {
   const bool files = !o.slave_file.empty() || !o.master_file.empty();
   if (files && (o.slave_file.empty() || o.master_file.empty()))
     throw InputError("bench search", "", "--slave and --master go together");
-  SampleSurfaces s = files ? read_surfaces(o.slave_file, o.master_file) : sample_surfaces(o.slave_nodes, o.master_facets, o.gap);
+  SampleSurfaces s = files ? read_surfaces(o.slave_file, o.master_file) : sample_surfaces(o.slave_nodes, o.master_facets, o.gap, o.quads);
   if (!o.write_dir.empty()) {
     write_surfaces(s, o.write_dir);
     fmt::print("surfaces written to {}/slave.msh and {}/master.msh\n", o.write_dir, o.write_dir);
@@ -99,8 +99,10 @@ int bench_search(const BenchSearchOptions& o) {
   const Real h = s.master.mean_edge_length();
   // Automatic detection distance: twice the mean master edge length.
   const Real dmax = 2 * h;
-  fmt::print("search benchmark: {} slave nodes, {} master triangles (mean edge {:.3g}), d_max = {:.3g}, {} threads\n",
-             s.slave_nodes.size(), s.master.size(), h, dmax, omp_get_max_threads());
+  fmt::print("search benchmark: {} slave nodes, {} master {} (mean edge {:.3g}), d_max = {:.3g}, {} threads\n",
+             s.slave_nodes.size(), s.master.size(),
+             s.master.corners == 4 ? "quadrilaterals" : s.master.corners == 3 ? "triangles" : "segments", h, dmax,
+             omp_get_max_threads());
   fmt::print("  surfaces {} in {:.3f} s\n", files ? "read from " + o.slave_file + " and " + o.master_file : "generated",
              tg.seconds());
   // Reference answers on an evenly spread subset.

@@ -11,6 +11,7 @@ struct BenchSearchOptions {
   Index slave_nodes = 1000000;
   Index master_facets = 1000000;
   Real gap = 1e-3;  // of the generated slave sheet above the master
+  bool quads = false;  // generated master facets: quadrilaterals instead of triangles
   std::string method;      // empty: every fast method
   Index check_subset = 2000;
   int repeats = 2;         // the second build+query models re-detection in a later increment

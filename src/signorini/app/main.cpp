@@ -178,6 +178,7 @@ int main(int argc, char** argv) {
   bench_search_cmd->add_option("--check", bso.check_subset, "slave nodes checked against all_to_all");
   bench_search_cmd->add_option("--gap", bso.gap, "height of the generated slave sheet above the master (default 1e-3)")
       ->check(CLI::Range(0.0, 1.0));
+  bench_search_cmd->add_flag("--quads", bso.quads, "generated master facets: quadrilaterals (--master-facets of them) instead of triangles");
   bench_search_cmd->add_option("--repeats", bso.repeats, "build + query passes per method (the first is the first pass, the others re-detections; default 2)")
       ->check(CLI::Range(1, 1000));
   bench_search_cmd->add_option("--slave", bso.slave_file, "a Gmsh .msh whose nodes are the slave nodes");

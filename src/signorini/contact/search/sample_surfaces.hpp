@@ -13,8 +13,8 @@ struct SampleSurfaces {
   SearchFacets master;
 };
 
-// About `slave_nodes` nodes and `master_facets` triangles on the unit square, the slave
-// sheet `gap` above the master.
-SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets, Real gap = 1e-3);
+// About `slave_nodes` nodes and `master_facets` triangles (or quadrilaterals) on the unit
+// square, the slave sheet `gap` above the master.
+SampleSurfaces sample_surfaces(Index slave_nodes, Index master_facets, Real gap = 1e-3, bool quads = false);
 
 }  // namespace signorini

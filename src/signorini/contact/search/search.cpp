@@ -264,13 +264,15 @@ class BucketGrid final : public ContactSearch {
  private:
   // What the pruning knows of a facet, in single precision (half the memory traffic of the
   // hot loop): its bounding sphere, whose radius is measured from the rounded centre and
-  // rounded up, and the unit normal of its plane (zero for segments, quadrilaterals, which
-  // need not be plane, and degenerate triangles: the test is then the sphere's alone).
+  // rounded up; the unit normal of a plane through the centre (a triangle's own; a
+  // quadrilateral's from its diagonals) and the largest distance of a corner from that plane
+  // (zero for a plane facet, a quadrilateral's warp otherwise: the facet lies in that slab).
+  // The normal is zero for segments and degenerate facets: the test is then the sphere's.
   struct Bound {
     float c[3];
     float r;
     float n[3];
-    float pad;
+    float slab;
   };
 
   static Vec3 centroid(const Vec3* c, int corners) {
@@ -292,16 +294,20 @@ class BucketGrid final : public ContactSearch {
     // (1 + 2^-21) more.
     b.r = std::sqrt(static_cast<float>(r2)) * (1 + 0x1p-21f);
     Vec3 nrm = Vec3::Zero();
-    if constexpr (N == 3) {
-      nrm = (c[1] - c[0]).cross(c[2] - c[0]);
-      const Real len = nrm.norm();
-      if (len > 0) nrm *= 1 / len;
-    }
+    if constexpr (N == 3) nrm = (c[1] - c[0]).cross(c[2] - c[0]);
+    if constexpr (N == 4) nrm = (c[2] - c[0]).cross(c[3] - c[1]);
+    const Real len = nrm.norm();
+    if (len > 0) nrm *= 1 / len;
     for (int d = 0; d < 3; ++d) {
       b.c[d] = m(d);
       b.n[d] = static_cast<float>(nrm(d));
     }
-    b.pad = 0;
+    // The slab about the stored plane (the rounded normal), rounded up like the radius.
+    const Vec3 nf(b.n[0], b.n[1], b.n[2]);
+    Real slab = 0;
+    if (len > 0)
+      for (int j = 0; j < N; ++j) slab = std::max(slab, std::abs(nf.dot(c[j] - cf)));
+    b.slab = static_cast<float>(slab) * (1 + 0x1p-21f);
     return b;
   }
   // The bounds and ids written to their column's slots (position_), reading the facets in
@@ -404,14 +410,15 @@ class BucketGrid final : public ContactSearch {
   }
 
   // The facets of slots [rb, re) that can be closer than b.bound get their exact distance.
-  // A facet within the sphere of radius r about c, in the plane through c of unit normal n,
-  // is at a distance d >= sqrt(h^2 + max(0, rho - r)^2) from p, where h = n.(p - c) and rho
-  // is the length of (p - c) - h n, the in-plane offset (rho = |p - c| and the bound is the
-  // sphere's when n = 0). The test runs in single precision on coordinates relative to
-  // lo_, whose size x is that of the surface, not of its position: the stored centre and
-  // normal are rounded (2^-24 relative, so the corners may lie off the stored plane by
-  // about 2^-24 (x + r)) and so is the arithmetic (a few 2^-24 (x + |d|)). h and rho are
-  // lowered by tol = 2^-16 (x + bound), ten times more than these errors add up to, and the
+  // A facet within the sphere of radius r about c and within the slab |n.(x - c)| <= s (n a
+  // unit normal) is at a distance d >= sqrt(max(0, |h| - s)^2 + max(0, rho - r)^2) from p,
+  // where h = n.(p - c) and rho is the length of (p - c) - h n, the in-plane offset (rho =
+  // |p - c| and the bound is the sphere's when n = 0). r and s are measured in double from
+  // the stored (rounded) centre and normal and rounded up. The test runs in single
+  // precision on coordinates relative to lo_, whose size x is that of the surface, not of
+  // its position: p is rounded (2^-24 relative) and so is the arithmetic (a few
+  // 2^-24 (x + |d|)). h and rho are lowered by tol = 2^-16 (x + bound), ten times more than
+  // these errors add up to, and the
   // squared reach is enlarged by 1e-5 relative: no facet that can be closer is skipped (a
   // few more are measured exactly). With SSE2 four facets are tested at once; bounds_ is
   // padded with three records that never pass, so a group of four may run past re: the
@@ -424,23 +431,27 @@ class BucketGrid final : public ContactSearch {
       const __m128 px = _mm_set1_ps(static_cast<float>(q(0))), py = _mm_set1_ps(static_cast<float>(q(1))),
                    pz = _mm_set1_ps(static_cast<float>(q(2))), tl = _mm_set1_ps(tol), zero = _mm_setzero_ps(),
                    sign = _mm_set1_ps(-0.0f);
+      __m128 reach = _mm_set1_ps(reach2(b.bound));  // updated when the bound shrinks
       for (Index k = rb; k < re; k += 4) {
         __m128 cx = _mm_loadu_ps(bounds_[k].c), cy = _mm_loadu_ps(bounds_[k + 1].c), cz = _mm_loadu_ps(bounds_[k + 2].c),
                r = _mm_loadu_ps(bounds_[k + 3].c);
         _MM_TRANSPOSE4_PS(cx, cy, cz, r);  // centres' x, y, z and the radii of the four
         __m128 nx = _mm_loadu_ps(bounds_[k].n), ny = _mm_loadu_ps(bounds_[k + 1].n),
-               nz = _mm_loadu_ps(bounds_[k + 2].n), unused = _mm_loadu_ps(bounds_[k + 3].n);
-        _MM_TRANSPOSE4_PS(nx, ny, nz, unused);
+               nz = _mm_loadu_ps(bounds_[k + 2].n), slab = _mm_loadu_ps(bounds_[k + 3].n);
+        _MM_TRANSPOSE4_PS(nx, ny, nz, slab);
         const __m128 dx = _mm_sub_ps(px, cx), dy = _mm_sub_ps(py, cy), dz = _mm_sub_ps(pz, cz);
         const __m128 h = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, nx), _mm_mul_ps(dy, ny)), _mm_mul_ps(dz, nz));
         const __m128 ex = _mm_sub_ps(dx, _mm_mul_ps(h, nx)), ey = _mm_sub_ps(dy, _mm_mul_ps(h, ny)),
                      ez = _mm_sub_ps(dz, _mm_mul_ps(h, nz));
         const __m128 rho = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey)), _mm_mul_ps(ez, ez)));
         const __m128 t = _mm_max_ps(zero, _mm_sub_ps(_mm_sub_ps(rho, r), tl));
-        const __m128 hl = _mm_max_ps(zero, _mm_sub_ps(_mm_andnot_ps(sign, h), tl));
+        const __m128 hl = _mm_max_ps(zero, _mm_sub_ps(_mm_sub_ps(_mm_andnot_ps(sign, h), tl), slab));
         const __m128 lower2 = _mm_add_ps(_mm_mul_ps(hl, hl), _mm_mul_ps(t, t));
-        for (int m = _mm_movemask_ps(_mm_cmple_ps(lower2, _mm_set1_ps(reach2(b.bound)))); m; m &= m - 1)
-          consider<N>(k + __builtin_ctz(m), p, b);
+        int m = _mm_movemask_ps(_mm_cmple_ps(lower2, reach));
+        if (m) {
+          for (; m; m &= m - 1) consider<N>(k + __builtin_ctz(m), p, b);
+          reach = _mm_set1_ps(reach2(b.bound));
+        }
       }
       return;
     }
@@ -450,7 +461,7 @@ class BucketGrid final : public ContactSearch {
       const Vec3 d(q(0) - f.c[0], q(1) - f.c[1], q(2) - f.c[2]);
       const Vec3 nrm(f.n[0], f.n[1], f.n[2]);
       const Real h = nrm.dot(d);
-      const Real t = std::max(0.0, (d - h * nrm).norm() - f.r - tol), hl = std::max(0.0, std::abs(h) - tol);
+      const Real t = std::max(0.0, (d - h * nrm).norm() - f.r - tol), hl = std::max(0.0, std::abs(h) - tol - f.slab);
       if (hl * hl + t * t <= reach2(b.bound)) consider<N>(k, p, b);
     }
   }
