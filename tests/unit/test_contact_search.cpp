@@ -3,9 +3,13 @@
 // with and without a detection distance; point-facet distances against brute force.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
+#include <limits>
 
 #include "signorini/contact/search/sample_surfaces.hpp"
+#include "signorini/core/error.hpp"
 
 using namespace signorini;
 
@@ -196,4 +200,111 @@ TEST(ContactSearch, WarpedQuadrilaterals) {
   std::vector<Vec3> pts;
   for (int k = 0; k < 3000; ++k) pts.emplace_back(rnd(), rnd(), 1.2 * h * (2 * rnd() - 1));
   expect_all_agree(quads, pts, 2 * h, "warped quadrilaterals");
+}
+
+// The answer does not depend on the threads nor on the visiting order: at a tie (points on
+// shared edges and vertices of a 3D triangulation, each as close to two to six facets) every
+// method returns the lowest facet id, as all-to-all does, with one thread and with two.
+TEST(ContactSearch, TiesGoToTheLowestFacetWhateverTheThreads) {
+  SearchFacets tri;
+  tri.corners = 3;
+  const int n = 24;
+  auto v = [&](int i, int j) { return Vec3(i / Real(n), j / Real(n), 0.1 * std::sin(i * 0.7) * std::cos(j * 0.4)); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) tri.points.insert(tri.points.end(), {v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+  std::vector<Vec3> pts;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      pts.push_back(v(i, j));                                                      // vertices
+      if (i < n) pts.push_back(0.5 * (v(i, j) + v(i + 1, j)));                     // edge midpoints
+      if (i < n && j < n) pts.push_back(0.5 * (v(i, j) + v(i + 1, j + 1)));        // diagonals
+    }
+  auto all = make_search("all_to_all");
+  all->build(tri);
+  std::vector<SearchHit> ref;
+  all->closest(pts, 0.1, ref);
+  const int threads = omp_get_max_threads();
+  for (const char* m : {"bucket_grid", "bucket_grid_scalar", "bvh"})
+    for (int t : {1, 2}) {
+      omp_set_num_threads(t);
+      auto s = make_search(m);
+      s->build(tri);
+      std::vector<SearchHit> hits;
+      s->closest(pts, 0.1, hits);
+      for (size_t i = 0; i < pts.size(); ++i) {
+        ASSERT_EQ(hits[i].facet, ref[i].facet) << m << " with " << t << " threads, point " << i;
+        ASSERT_EQ(hits[i].distance, ref[i].distance) << m << " with " << t << " threads, point " << i;
+      }
+    }
+  omp_set_num_threads(threads);
+}
+
+// Edge cases of the grid: no facet, one facet, coincident and zero-area facets, a rebuild
+// with another count and another kind of facet into the same object, d_max 0 and infinite;
+// a non-finite corner is an error, not a wrong answer.
+TEST(ContactSearch, GridEdgeCases) {
+  const Real inf = std::numeric_limits<Real>::infinity();
+  std::vector<Vec3> pts{Vec3(0.2, 0.2, 0.5), Vec3(0, 0, 0), Vec3(5, -3, 2)};
+  for (const char* m : {"bucket_grid", "bucket_grid_scalar", "bvh"}) {
+    auto s = make_search(m);
+    SearchFacets none;
+    none.corners = 3;
+    s->build(none);
+    std::vector<SearchHit> hits;
+    s->closest(pts, inf, hits);
+    for (const auto& h : hits) EXPECT_EQ(h.facet, -1) << m;
+    SearchFacets one;
+    one.corners = 3;
+    one.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    expect_all_agree(one, pts, inf, std::string(m) + " one facet");
+    s->build(one);
+    s->closest(pts, 0.0, hits);  // d_max 0: only the point on the facet
+    EXPECT_EQ(hits[0].facet, -1) << m;
+    EXPECT_EQ(hits[1].facet, 0) << m;
+    SearchFacets degenerate;
+    degenerate.corners = 3;
+    for (int k = 0; k < 50; ++k) {
+      const Vec3 a(0.1 * k, 0, 0);
+      degenerate.points.insert(degenerate.points.end(), {a, a, a});                                      // a point
+      degenerate.points.insert(degenerate.points.end(), {a, a + Vec3(0.05, 0, 0), a + Vec3(0.1, 0, 0)});  // a line
+    }
+    expect_all_agree(degenerate, pts, inf, std::string(m) + " degenerate facets");
+    // Rebuilt in place: 1000 quadrilaterals after the triangles.
+    SearchFacets quads;
+    quads.corners = 4;
+    for (int j = 0; j < 25; ++j)
+      for (int i = 0; i < 40; ++i)
+        quads.points.insert(quads.points.end(), {Vec3(i, j, 0), Vec3(i + 1, j, 0.3), Vec3(i + 1, j + 1, 0), Vec3(i, j + 1, 0.1)});
+    s->build(quads);
+    std::vector<SearchHit> ref;
+    auto all = make_search("all_to_all");
+    all->build(quads);
+    const std::vector<Vec3> qp{Vec3(3.3, 4.4, 0.5), Vec3(39.9, 24.9, -1), Vec3(-2, 7, 0)};
+    all->closest(qp, inf, ref);
+    s->closest(qp, inf, hits);
+    for (size_t i = 0; i < qp.size(); ++i) EXPECT_EQ(hits[i].facet, ref[i].facet) << m << " rebuilt, point " << i;
+  }
+  SearchFacets bad;
+  bad.corners = 3;
+  bad.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0), Vec3(std::nan(""), 0, 0), Vec3(0, 1, 0)};
+  auto g = make_search("bucket_grid");
+  try {
+    g->build(bad);
+    FAIL() << "a NaN corner was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("facet 1"), std::string::npos) << e.what();
+  }
+  std::vector<SearchHit> hits;
+  g->closest(pts, inf, hits);  // after the error: an empty grid, not a half-built one
+  for (const auto& h : hits) EXPECT_EQ(h.facet, -1);
+}
+
+// Tiny facets far apart (edges 1e-14 of the spread): the column count would overflow a
+// 64-bit product; the grid coarsens its cells instead.
+TEST(ContactSearch, TinyFacetsFarApart) {
+  SearchFacets f;
+  f.corners = 3;
+  for (const Vec3& o : {Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(0.5, 0.2, 0)})
+    f.points.insert(f.points.end(), {o, o + Vec3(1e-14, 0, 0), o + Vec3(0, 1e-14, 0)});
+  expect_all_agree(f, {Vec3(0.9, 0.9, 0), Vec3(0.1, 0, 0), Vec3(0.5, 0.2, 1e-15)}, 10.0, "tiny facets");
 }

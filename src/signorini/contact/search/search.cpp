@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+
+#include <fmt/format.h>
 #ifdef __SSE2__
 #include <xmmintrin.h>
 #endif
@@ -130,8 +132,16 @@ template <int N>
 template <bool Simd>
 class BucketGrid final : public ContactSearch {
  public:
-  std::string name() const override { return "bucket_grid"; }
+  std::string name() const override { return Simd ? "bucket_grid" : "bucket_grid_scalar"; }
   void build(const SearchFacets& f) override {
+    try {
+      build_grid(f);
+    } catch (...) {
+      ids_.clear();  // an empty grid (closest() finds nothing) rather than a half-built one
+      throw;
+    }
+  }
+  void build_grid(const SearchFacets& f) {
     facets_ = &f;
     corners_ = f.corners;
     const Index n = f.size();
@@ -166,6 +176,14 @@ class BucketGrid final : public ContactSearch {
     }
     lo_ = lo;
     if (n == 0) return;
+    // Overflow and NaN alike (a NaN or infinite corner, or one beyond 1e154) make the sum
+    // non-finite: say which facet.
+    if (!std::isfinite(edge2_sum))
+      for (Index i = 0; i < n; ++i)
+        for (int q = 0; q < f.corners; ++q)
+          if (!f.facet(i)[q].allFinite() || f.facet(i)[q].cwiseAbs().maxCoeff() > 1e150)
+            throw Error(fmt::format("contact search: master facet {} has a non-finite or huge corner ({}, {}, {})", i,
+                                    f.facet(i)[q](0), f.facet(i)[q](1), f.facet(i)[q](2)));
     // The sorted axis: the one along which the centroids spread least.
     const Vec3 ext = hi - lo;
     axis_ = 0;
@@ -181,12 +199,14 @@ class BucketGrid final : public ContactSearch {
       dims_[1] = std::max<Index>(1, static_cast<Index>(ext(v_) / cell_) + 1);
     };
     set_dims();
-    // Keep the number of columns in proportion to the facets (thin or sparse surfaces).
-    while (dims_[0] * dims_[1] > 2 * n + 8) {
+    // Keep the number of columns in proportion to the facets (thin or sparse surfaces); the
+    // product in double (tiny facets spread far apart would overflow it in integers).
+    while (static_cast<double>(dims_[0]) * static_cast<double>(dims_[1]) > 2.0 * n + 8) {
       cell_ *= 1.5;
       set_dims();
     }
     const Index ncol = dims_[0] * dims_[1];
+    if (ncol >= static_cast<Index>(kTall)) throw Error("bucket_grid search: too many columns (use search method bvh)");
     // Each facet's column, by its centre as stored (single precision), which the pruning
     // measures from; kept in position_ until the counting sort turns it into the slot.
 #pragma omp parallel for schedule(static)
@@ -195,7 +215,6 @@ class BucketGrid final : public ContactSearch {
       position_[i] = static_cast<std::int32_t>(coord(m(v_), dims_[1]) * dims_[0] + coord(m(u_), dims_[0]));
     }
     // Counting sort of the facets by column (start_ shifted by one during the fill, then back).
-    if (ncol >= static_cast<Index>(kTall)) throw Error("bucket_grid search: too many columns");
     start_.assign(ncol + 1, 0);
     for (Index i = 0; i < n; ++i) ++start_[position_[i] + 1];
     for (Index c = 0; c < ncol; ++c) start_[c + 1] += start_[c];
@@ -428,8 +447,7 @@ class BucketGrid final : public ContactSearch {
     const float tol = to_float(0x1p-16 * (x + b.bound));
 #ifdef __SSE2__
     if constexpr (Simd) {
-      const __m128 px = _mm_set1_ps(static_cast<float>(q(0))), py = _mm_set1_ps(static_cast<float>(q(1))),
-                   pz = _mm_set1_ps(static_cast<float>(q(2))), tl = _mm_set1_ps(tol), zero = _mm_setzero_ps(),
+      const __m128 px = _mm_set1_ps(to_float(q(0))), py = _mm_set1_ps(to_float(q(1))), pz = _mm_set1_ps(to_float(q(2))), tl = _mm_set1_ps(tol), zero = _mm_setzero_ps(),
                    sign = _mm_set1_ps(-0.0f);
       __m128 reach = _mm_set1_ps(reach2(b.bound));  // updated when the bound shrinks
       for (Index k = rb; k < re; k += 4) {
@@ -470,9 +488,12 @@ class BucketGrid final : public ContactSearch {
     const float r = to_float(bound);
     return r * r * (1 + 1e-5f);
   }
-  // A bound in single precision: above the float range it is the largest float (which
-  // passes every test), not an undefined conversion.
-  static float to_float(Real x) { return static_cast<float>(std::min<Real>(x, std::numeric_limits<float>::max())); }
+  // A bound or coordinate in single precision: beyond the float range it is the largest
+  // float (a bound that passes every test), not an undefined conversion.
+  static float to_float(Real x) {
+    constexpr Real m = std::numeric_limits<float>::max();
+    return static_cast<float>(std::clamp<Real>(x, -m, m));
+  }
   template <int N>
   SearchHit query(const Vec3& p, Real dmax, Index hint) const {
     const Vec3 q = p - lo_;
