@@ -177,12 +177,13 @@ class BucketGrid final : public ContactSearch {
     lo_ = lo;
     if (n == 0) return;
     // Overflow and NaN alike (a NaN or infinite corner, or one beyond 1e154) make the sum
-    // non-finite: say which facet.
+    // non-finite: say which facet. A SolverError: in an analysis it comes from a diverging
+    // iterate, and the increment is cut back.
     if (!std::isfinite(edge2_sum))
       for (Index i = 0; i < n; ++i)
         for (int q = 0; q < f.corners; ++q)
           if (!f.facet(i)[q].allFinite() || f.facet(i)[q].cwiseAbs().maxCoeff() > 1e150)
-            throw Error(fmt::format("contact search: master facet {} has a non-finite or huge corner ({}, {}, {})", i,
+            throw SolverError(fmt::format("contact search: master facet {} has a non-finite or huge corner ({}, {}, {})", i,
                                     f.facet(i)[q](0), f.facet(i)[q](1), f.facet(i)[q](2)));
     // The sorted axis: the one along which the centroids spread least.
     const Vec3 ext = hi - lo;

@@ -35,8 +35,8 @@ class ContactSearch {
   virtual ~ContactSearch() = default;
   virtual std::string name() const = 0;
   // May keep a reference to `facets` (all_to_all and bucket_grid read the corners from it):
-  // they must stay alive and unchanged until the next build. Throws Error on a non-finite
-  // corner (bucket_grid).
+  // they must stay alive and unchanged until the next build. Throws SolverError on a
+  // non-finite corner (bucket_grid).
   virtual void build(const SearchFacets& facets) = 0;
   // The closest facet to every point, among those closer than max_distance (else facet -1).
   virtual void closest(const std::vector<Vec3>& points, Real max_distance, std::vector<SearchHit>& hits) const = 0;
