@@ -268,6 +268,10 @@ class BucketGrid final : public ContactSearch {
     for (Index k = 0; k < n; ++k) position_[ids_[k]] = static_cast<std::int32_t>(k);
     rmax_ = r;
     ext_max_ = ext.maxCoeff() + rmax_;
+    // The column ranges are measured on p - lo_ and on centres rounded from m - lo_, both in
+    // double: an allowance of a few ulps of the absolute coordinates (a surface far from the
+    // origin), with the float rounding of the centres covered by the radii's round-up.
+    reach_slack_ = 8 * std::numeric_limits<Real>::epsilon() * (lo.cwiseAbs().maxCoeff() + ext_max_);
     // Padding read by the four-wide test past the last slot: NaN centres never pass.
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (Index k = n; k < n + 3; ++k) bounds_[k] = Bound{{nan, nan, nan}, nan, {0, 0, 0}, 0};
@@ -399,15 +403,15 @@ class BucketGrid final : public ContactSearch {
   void scan(const Vec3& p, const Vec3& q, Best& b) const {
     const Real x = std::max(ext_max_, q.cwiseAbs().maxCoeff());  // scale of the test's rounding
     const Index jc = coord(q(v_), dims_[1]);
-    for (Index j = jc; j >= 0 && j >= coord(q(v_) - (b.bound + rmax_), dims_[1]); --j) scan_row<N>(j, p, q, x, b);
-    for (Index j = jc + 1; j < dims_[1] && j <= coord(q(v_) + (b.bound + rmax_), dims_[1]); ++j)
-      scan_row<N>(j, p, q, x, b);
+    auto reach = [&] { return b.bound + rmax_ + reach_slack_; };
+    for (Index j = jc; j >= 0 && j >= coord(q(v_) - reach(), dims_[1]); --j) scan_row<N>(j, p, q, x, b);
+    for (Index j = jc + 1; j < dims_[1] && j <= coord(q(v_) + reach(), dims_[1]); ++j) scan_row<N>(j, p, q, x, b);
   }
   // The columns of row j that can hold a facet closer than b.bound: the slices of the tall
   // ones at the query's height, the others whole, merged where contiguous.
   template <int N>
   void scan_row(Index j, const Vec3& p, const Vec3& q, Real x, Best& b) const {
-    const Real reach = b.bound + rmax_;
+    const Real reach = b.bound + rmax_ + reach_slack_;
     const Index c0 = j * dims_[0] + coord(q(u_) - reach, dims_[0]), c1 = j * dims_[0] + coord(q(u_) + reach, dims_[0]);
     const int a = axis_;
     const Real alo = q(a) - reach, ahi = q(a) + reach;
@@ -545,6 +549,7 @@ class BucketGrid final : public ContactSearch {
   std::vector<std::uint32_t> start_;
   Vec3 lo_ = Vec3::Zero();
   Real cell_ = 1, inv_cell_ = 1, rmax_ = 0, ext_max_ = 0;  // ext_max_: the grid's size
+  Real reach_slack_ = 0;                                  // rounding allowance of the column ranges
   Index dims_[2] = {1, 1};
 };
 
