@@ -441,10 +441,10 @@ class BucketGrid final : public ContactSearch {
   // the stored (rounded) centre and normal and rounded up. The test runs in single
   // precision on coordinates relative to lo_, whose size x is that of the surface, not of
   // its position: p is rounded (2^-24 relative) and so is the arithmetic (a few
-  // 2^-24 (x + |d|)). h and rho are lowered by tol = 2^-16 (x + bound), ten times more than
-  // these errors add up to, and the
-  // squared reach is enlarged by 1e-5 relative: no facet that can be closer is skipped (a
-  // few more are measured exactly). With SSE2 four facets are tested at once; bounds_ is
+  // 2^-24 (x + |d|)). h and rho are lowered by tol = 2^-16 (x + bound), about five times
+  // what these errors add up to (counted, and replayed in float on 1e5 point-triangle
+  // pairs), and the squared reach is enlarged by 1e-5 relative: no facet that can be closer
+  // is skipped (a few more are measured exactly). With SSE2 four facets are tested at once; bounds_ is
   // padded with three records that never pass, so a group of four may run past re: the
   // extra slots are real facets or padding, and measuring a real facet is always correct.
   template <int N>
