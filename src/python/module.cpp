@@ -109,7 +109,13 @@ py::object run(const py::object& deck, const py::object& output, const py::objec
       progress(info);
     }
   });
-  AnalysisSummary s = analysis->run();
+  // The GIL is released while the analysis runs (other Python threads go on); the progress
+  // callback takes it back.
+  AnalysisSummary s;
+  {
+    py::gil_scoped_release release;
+    s = analysis->run();
+  }
   if (writer) writer->finish(*analysis, s, evaluate_checks(*analysis));
 
   // The result: numpy arrays of the last converged state.

@@ -68,4 +68,25 @@ try:
     sys.exit("a missing deck was accepted")
 except signorini.InputError as e:
     assert "does not exist" in str(e), str(e)
+# 4. Other Python threads run while an analysis does (the GIL is released).
+import threading
+import time
+
+ticks = 0
+done = {}
+def work():
+    t0 = time.perf_counter()
+    done["r"] = signorini.run(block)
+    done["seconds"] = time.perf_counter() - t0
+worker = threading.Thread(target=work)
+worker.start()
+while worker.is_alive():
+    ticks += 1
+    time.sleep(0.001)
+worker.join()
+assert done["r"].completed, done["r"].failure
+# The main thread ticks about once a millisecond while the run goes on; holding the GIL, it
+# would tick once or twice in all.
+assert ticks >= max(3, 0.2 * done["seconds"] / 0.001), (ticks, done["seconds"])
+
 print("python module: ok ({} increments, friction force {:.6f})".format(r.increments, fx))
