@@ -239,6 +239,28 @@ TEST(Deck, CommandLineReportsErrorAndExitCode) {
   EXPECT_MESSAGE(text, "error: ", "cli_bad.yaml:5", "materials.steel.nu");
 }
 
+// Under mpirun every rank runs `signorini check`; only rank 0 prints (the rank is read from
+// the launcher's environment, as Open MPI and PMI set it), and every rank exits the same.
+TEST(Deck, CheckUnderMpirunPrintsOnRankZeroOnly) {
+  const std::string good = write_deck("cli_good", kGood), bad = write_deck("cli_bad2", replace(kGood, "nu: 0.3", "nu: 0.7"));
+  auto check = [](const std::string& env, const std::string& path, std::string& text) {
+    const std::string out = (fs::temp_directory_path() / "signorini_cli_rank.txt").string();
+    const int rc = std::system((env + " " + SIGNORINI_BINARY + " check " + path + " > " + out + " 2>&1").c_str());
+    std::ifstream in(out);
+    text.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  };
+  std::string text;
+  EXPECT_EQ(check("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=1", good, text), 0);
+  EXPECT_EQ(text, "") << "rank 1 printed";
+  EXPECT_EQ(check("PMI_SIZE=3 PMI_RANK=2", bad, text), 1);
+  EXPECT_EQ(text, "") << "rank 2 printed";
+  EXPECT_EQ(check("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0", good, text), 0);
+  EXPECT_NE(text.find("Model"), std::string::npos) << text;
+  EXPECT_EQ(check("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0", bad, text), 1);
+  EXPECT_MESSAGE(text, "error: ", "cli_bad2.yaml:5", "materials.steel.nu");
+}
+
 TEST(Deck, DocsMentionEveryRegisteredKey) {
   std::ifstream in(std::string(SIGNORINI_SOURCE_DIR) + "/docs/deck.md");
   ASSERT_TRUE(in) << "docs/deck.md is missing";

@@ -206,6 +206,12 @@ int main(int argc, char** argv) {
     return 1;
   }
 #endif
+  // check, describe and bench under mpirun: every rank does the same, rank 0 speaks (they do
+  // not start MPI; the launcher's environment gives the rank).
+  if (!run_cmd->parsed() && launched_ranks() > 1 && launched_rank() != 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+  }
   if (mpi.size > 1) {
     // Rank 0 speaks for all; the cores are shared between the ranks.
     if (mpi.rank != 0) {

@@ -98,6 +98,12 @@ int launched_ranks() {
   return 1;
 }
 
+int launched_rank() {
+  for (const char* var : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (const char* v = std::getenv(var)) return std::max(0, std::atoi(v));
+  return 0;
+}
+
 int parallel_ranks() {
 #ifdef SIGNORINI_HAVE_PETSC
   return petsc_world_size();

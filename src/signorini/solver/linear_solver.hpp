@@ -65,6 +65,9 @@ bool petsc_available();
 // The number of processes mpirun (OpenMPI or MPICH) launched this one among (1 otherwise),
 // from the environment; and the MPI ranks the linear solve runs on (1 without PETSc).
 int launched_ranks();
+// This process's rank as the MPI launcher gives it (0 when not launched by one), read
+// without starting MPI.
+int launched_rank();
 int parallel_ranks();
 const std::vector<std::string>& linear_solver_names();  // for the registry and the deck
 
