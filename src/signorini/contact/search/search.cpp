@@ -141,14 +141,23 @@ class BucketGrid final : public ContactSearch {
       throw;
     }
   }
+  void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
+    switch (corners_) {
+      case 2: return closest_n<2>(pts, dmax, hits);
+      case 3: return closest_n<3>(pts, dmax, hits);
+      default: return closest_n<4>(pts, dmax, hits);
+    }
+  }
+
+ private:
   void build_grid(const SearchFacets& f) {
     facets_ = &f;
     corners_ = f.corners;
     const Index n = f.size();
     if (n >= std::numeric_limits<std::int32_t>::max())
       throw Error("bucket_grid search: more than 2^31 - 1 master facets (use search method bvh)");
-    // Buffers keep their capacity between builds: re-detection in a later increment
-    // allocates nothing.
+    // The grid's buffers keep their capacity between builds: re-detection in a later
+    // increment allocates only a few small arrays (per block of 4096 facets, per thread).
     ids_.resize(n);
     position_.resize(n);
     Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
@@ -277,15 +286,6 @@ class BucketGrid final : public ContactSearch {
     for (Index k = n; k < n + 3; ++k) bounds_[k] = Bound{{nan, nan, nan}, nan, {0, 0, 0}, 0};
   }
 
-  void closest(const std::vector<Vec3>& pts, Real dmax, std::vector<SearchHit>& hits) const override {
-    switch (corners_) {
-      case 2: return closest_n<2>(pts, dmax, hits);
-      case 3: return closest_n<3>(pts, dmax, hits);
-      default: return closest_n<4>(pts, dmax, hits);
-    }
-  }
-
- private:
   // What the pruning knows of a facet, in single precision (half the memory traffic of the
   // hot loop): its bounding sphere, whose radius is measured from the rounded centre and
   // rounded up; the unit normal of a plane through the centre (a triangle's own; a
