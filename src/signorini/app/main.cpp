@@ -206,20 +206,15 @@ int main(int argc, char** argv) {
     return 1;
   }
 #endif
-  // check, describe and bench under mpirun: every rank does the same, rank 0 speaks (they do
-  // not start MPI; the launcher's environment gives the rank).
-  if (!run_cmd->parsed() && launched_ranks() > 1 && launched_rank() != 0) {
+  // Under mpirun rank 0 speaks for all: run knows its rank from MPI; check, describe and
+  // bench (every rank does the same, none starts MPI) from the launcher's environment.
+  const int rank = run_cmd->parsed() ? mpi.rank : launched_ranks() > 1 ? launched_rank() : 0;
+  if (rank != 0) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen("/dev/null", "w", stderr);
   }
-  if (mpi.size > 1) {
-    // Rank 0 speaks for all; the cores are shared between the ranks.
-    if (mpi.rank != 0) {
-      std::freopen("/dev/null", "w", stdout);
-      std::freopen("/dev/null", "w", stderr);
-    }
-    if (threads == 0) omp_set_num_threads(std::max(1, omp_get_num_procs() / mpi.size));
-  }
+  // The cores are shared between the ranks.
+  if (mpi.size > 1 && threads == 0) omp_set_num_threads(std::max(1, omp_get_num_procs() / mpi.size));
   try {
     if (bench_search_cmd->parsed()) return bench_search(bso);
     if (describe_cmd->parsed()) {
