@@ -376,7 +376,7 @@ class BucketGrid final : public ContactSearch {
   template <int N>
   [[gnu::always_inline]] inline void consider(Index r, const Vec3& p, Best& b) const {
     const std::int32_t id = ids_[r];
-    const Real d2 = facet_distance2<N>(facets_->points.data() + static_cast<Index>(id) * N, p);
+    const Real d2 = facet_distance2<N>(facets_->facet(id), p);
     if (d2 > b.bound2) return;
     const Real d = std::sqrt(d2);
     // At a tie the lower facet id: the answer does not depend on the visiting order.
@@ -504,7 +504,7 @@ class BucketGrid final : public ContactSearch {
     const Vec3 q = p - lo_;
     Best b;
     if (hint >= 0) {
-      const Real d = std::sqrt(facet_distance2<N>(facets_->points.data() + static_cast<Index>(ids_[hint]) * N, p));
+      const Real d = std::sqrt(facet_distance2<N>(facets_->facet(ids_[hint]), p));
       if (d <= dmax) {
         b.hit = {ids_[hint], d};
         b.set_bound(d);
@@ -676,9 +676,7 @@ Real SearchFacets::mean_edge_length() const {
 }
 
 Real point_facet_distance(const Vec3* c, int n, const Vec3& p) {
-  if (n == 2) return std::sqrt(point_segment_distance2(p, c[0], c[1]));
-  if (n == 3) return std::sqrt(point_triangle_distance2(p, c[0], c[1], c[2]));
-  return std::sqrt(std::min(point_triangle_distance2(p, c[0], c[1], c[2]), point_triangle_distance2(p, c[0], c[2], c[3])));
+  return std::sqrt(n == 2 ? facet_distance2<2>(c, p) : n == 3 ? facet_distance2<3>(c, p) : facet_distance2<4>(c, p));
 }
 
 const std::vector<std::string>& search_method_names() {
