@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "common.hpp"
+#include "signorini/fem/history.hpp"
 #include "signorini/fem/surface_load.hpp"
+#include "signorini/material/j2_plasticity.hpp"
 #include "signorini/mesh/structured.hpp"
 
 using namespace signorini;
@@ -41,6 +43,27 @@ VecX random_displacement(Index n, Real amplitude, unsigned seed) {
   return u;
 }
 
+// The largest difference between the body's tangent at u and central differences of its
+// internal forces, relative to the tangent's largest entry (history read from its committed
+// state, when given).
+Real tangent_error(const Body& body, const Mesh& mesh, const DofMap& dofs, const VecX& u,
+                   QuadratureHistory* hist = nullptr, DenseMatrix* tangent = nullptr) {
+  DenseMatrix K(dofs.num_dofs());
+  VecX f = VecX::Zero(dofs.num_dofs());
+  body.assemble(mesh.nodes, u, dofs, f, &K, hist);
+  const Real maxk = K.k.cwiseAbs().maxCoeff();
+  // The tangent is d(fint)/du: the residual whose negative derivative it is, is -fint.
+  const Real maxerr = test::central_difference_error(
+      [&](const VecX& uu) {
+        VecX fi = VecX::Zero(dofs.num_dofs());
+        body.assemble(mesh.nodes, uu, dofs, fi, nullptr, hist);
+        return VecX(-fi);
+      },
+      u, K.k, 1e-6);
+  if (tangent) *tangent = K;
+  return maxerr / maxk;
+}
+
 }  // namespace
 
 class BodyTangent : public ::testing::TestWithParam<Case> {};
@@ -58,18 +81,8 @@ TEST_P(BodyTangent, MatchesCentralDifferences) {
   DofMap dofs(mesh.num_nodes(), s.spatial_dim(), test::cells_of(body));
   const VecX u = random_displacement(dofs.num_dofs(), 0.05, 7);
   DenseMatrix K(dofs.num_dofs());
-  VecX f = VecX::Zero(dofs.num_dofs());
-  body.assemble(mesh.nodes, u, dofs, f, &K);
+  EXPECT_LT(tangent_error(body, mesh, dofs, u, nullptr, &K), 1e-6) << describe(c);
   const Real maxk = K.k.cwiseAbs().maxCoeff();
-  // The tangent is d(fint)/du: the residual whose negative derivative it is, is -fint.
-  const Real maxerr = test::central_difference_error(
-      [&](const VecX& uu) {
-        VecX fi = VecX::Zero(dofs.num_dofs());
-        body.assemble(mesh.nodes, uu, dofs, fi, nullptr);
-        return VecX(-fi);
-      },
-      u, K.k, 1e-6);
-  EXPECT_LT(maxerr, 1e-6 * maxk) << describe(c);
   // The tangent of a hyperelastic body is symmetric.
   EXPECT_LT((K.k - K.k.transpose()).cwiseAbs().maxCoeff(), 1e-10 * maxk) << describe(c);
 }
@@ -91,6 +104,53 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{Dimension::three_d, false, ElementType::tet4, false},
                       Case{Dimension::three_d, true, ElementType::hex27, true}),
     name_of);
+
+// J2 plasticity in a body: the tangent of a plastic state (strains about ten times the yield
+// strain, history committed from a first plastic step) against central differences, small and
+// finite strain (the finite-strain model's material tangent plus the geometric term).
+class BodyTangentPlastic : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BodyTangentPlastic, MatchesCentralDifferences) {
+  const Case c = GetParam();
+  Mesh mesh = make_mesh(c);
+  AnalysisSettings s;
+  s.dimension = c.dim;
+  s.finite_strain = c.finite;
+  s.thickness = 0.7;
+  J2Hardening h;
+  h.H = 10;
+  Body body("b", mesh.regions["domain"], std::make_shared<J2Plasticity>(100, 0.3, 0.5, h, c.finite), s);
+  DofMap dofs(mesh.num_nodes(), s.spatial_dim(), test::cells_of(body));
+  QuadratureHistory hist(body);
+  // A first plastic step, committed; then the tangent at a further state.
+  const VecX u1 = random_displacement(dofs.num_dofs(), 0.05, 7);
+  VecX f = VecX::Zero(dofs.num_dofs());
+  body.assemble(mesh.nodes, u1, dofs, f, nullptr, &hist);
+  hist.commit();
+  const VecX u = u1 + random_displacement(dofs.num_dofs(), 0.02, 11);
+  EXPECT_LT(tangent_error(body, mesh, dofs, u, &hist), 1e-6) << describe(c);
+  // The state is plastic: some point yielded in the first step.
+  const J2Plasticity& m = static_cast<const J2Plasticity&>(body.material());
+  bool yielded = false;
+  for (size_t i = m.alpha_slot(); i < hist.committed_values().size(); i += m.history_size())
+    yielded = yielded || hist.committed_values()[i] > 0;
+  EXPECT_TRUE(yielded) << describe(c);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    J2, BodyTangentPlastic,
+    ::testing::Values(Case{Dimension::plane_strain, true, ElementType::quad4, false},
+                      Case{Dimension::plane_strain, false, ElementType::tri6, false},
+                      Case{Dimension::plane_stress, true, ElementType::quad4, false},
+                      Case{Dimension::plane_stress, false, ElementType::quad8, false},
+                      Case{Dimension::axisymmetric, true, ElementType::tri6, false},
+                      Case{Dimension::three_d, true, ElementType::hex8, false},
+                      Case{Dimension::three_d, true, ElementType::tet10, false},
+                      Case{Dimension::three_d, false, ElementType::tet4, false}),
+    [](const ::testing::TestParamInfo<Case>& i) {
+      const Case& c = i.param;
+      return to_string(c.dim) + (c.finite ? "_finite_" : "_small_") + element_info(c.type).name;
+    });
 
 class FollowerPressure : public ::testing::TestWithParam<Case> {};
 

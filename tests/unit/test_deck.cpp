@@ -9,6 +9,7 @@
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
+#include "signorini/material/j2_plasticity.hpp"
 #include "signorini/mesh/gmsh_reader.hpp"
 
 using namespace signorini;
@@ -437,8 +438,15 @@ TEST(Deck, J2PlasticityHardeningErrors) {
   EXPECT_MESSAGE(m, "j2_saturation.yaml:5", "hardening.isotropic.saturation", "below the yield stress");
   m = error_of("j2_linear_rate", replace(good, "type: voce", "type: linear"));
   EXPECT_MESSAGE(m, "j2_linear_rate.yaml:5", "hardening.isotropic.saturation", "for type: voce");
-  m = error_of("j2_finite", replace(good, "plane_strain", "plane_strain, kinematics: finite_strain"));
-  EXPECT_MESSAGE(m, "j2_finite.yaml:5", "materials.steel.model", "small-strain model");
+  // Finite strain: the multiplicative model, isotropic hardening only.
+  const std::string finite = replace(good, "plane_strain", "plane_strain, kinematics: finite_strain");
+  m = error_of("j2_finite", finite);
+  EXPECT_MESSAGE(m, "j2_finite.yaml:5", "materials.steel.hardening.kinematic", "small strain only");
+  const Model fm = read_deck(write_deck("j2_finite_iso", replace(finite, ", kinematic: {H: 1e9}", "")), r);
+  const auto* j2m = dynamic_cast<const J2Plasticity*>(&fm.bodies.front()->material());
+  ASSERT_NE(j2m, nullptr);
+  EXPECT_TRUE(j2m->finite());
+  EXPECT_EQ(j2m->history_size(), 13);
   m = error_of("j2_negative_H", replace(good, "H: 1e9", "H: -1e9"));
   EXPECT_MESSAGE(m, "j2_negative_H.yaml:5", "hardening.kinematic.H", ">= 0");
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "signorini/core/error.hpp"
 #include "signorini/material/j2_plasticity.hpp"
 
 using namespace signorini;
@@ -19,10 +20,12 @@ struct State {
   std::vector<Real> history;
 };
 
-State eval(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old) {
+// The material's response to a strain (small, or Green-Lagrange with `finite`).
+State eval(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, bool finite = false) {
   State s;
   s.history.assign(m.history_size(), 0);
   MaterialInput in;
+  in.finite = finite;
   in.strain = strain;
   in.history_old = old.data();
   in.history_new = s.history.data();
@@ -39,12 +42,13 @@ Real mises(const Vec6& s) {
 }
 
 // Central differences of the stress in the strain (Voigt, engineering shears).
-Mat6 numeric_tangent(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, Real h) {
+Mat6 numeric_tangent(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, Real h,
+                     bool finite = false) {
   Mat6 D;
   for (int b = 0; b < 6; ++b) {
     Vec6 e = Vec6::Zero();
     e(b) = h;
-    D.col(b) = (eval(m, strain + e, old).stress - eval(m, strain - e, old).stress) / (2 * h);
+    D.col(b) = (eval(m, strain + e, old, finite).stress - eval(m, strain - e, old, finite).stress) / (2 * h);
   }
   return D;
 }
@@ -172,4 +176,173 @@ TEST(J2Plasticity, UniaxialHardeningModulus) {
   const Real slope = (last_stress - stresses[stresses.size() - 2]) / (last_strain - strains[strains.size() - 2]);
   EXPECT_NEAR(slope, kE * h.H / (kE + h.H), 1e-8 * kE);
   EXPECT_NEAR(stresses.front(), 0.25 * kSy, 1e-9 * kSy) << "elastic at a quarter of the yield strain";
+}
+
+// ---- Finite strain (F = F_e F_p, Hencky elasticity, exponential map) ----
+
+namespace {
+
+Vec6 green_lagrange(const Mat3& F) { return to_voigt_strain(0.5 * (F.transpose() * F - Mat3::Identity())); }
+
+// The material's response to a deformation gradient (through E = (F^T F - I) / 2).
+State eval_finite(const J2Plasticity& m, const Mat3& F, const std::vector<Real>& old) {
+  return eval(m, green_lagrange(F), old, true);
+}
+
+std::vector<Real> virgin_history(const J2Plasticity& m) {
+  std::vector<Real> h(m.history_size());
+  m.initialize_history(h.data());
+  return h;
+}
+
+
+Mat3 plastic_deformation(const std::vector<Real>& h) {
+  Mat3 Fp;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Fp(i, j) = h[J2Plasticity::kPlasticDeformation + 3 * i + j];
+  return Fp;
+}
+
+// A rotation (about an oblique axis) times a stretch: strains of tens of percent.
+Mat3 large_deformation(Real scale) {
+  const Mat3 R = Eigen::AngleAxis<Real>(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  Mat3 U;
+  U << 1 + 0.30 * scale, 0.08 * scale, -0.05 * scale, 0.08 * scale, 1 - 0.12 * scale, 0.10 * scale, -0.05 * scale,
+      0.10 * scale, 1 - 0.06 * scale;
+  return R * U;
+}
+
+std::vector<J2Hardening> isotropic_hardenings() {
+  std::vector<J2Hardening> out;
+  for (const J2Hardening& h : hardenings())
+    if (h.kinematic == 0) out.push_back(h);
+  return out;
+}
+
+}  // namespace
+
+// dS/dE against central differences: at the undeformed state (three equal eigenvalues), in
+// the elastic range, in plastic loading from the virgin state and from a plastic state (F_p not
+// I), at two equal principal stretches, and in elastic unloading from a plastic state.
+TEST(J2PlasticityFinite, TangentMatchesCentralDifferences) {
+  for (const J2Hardening& h : isotropic_hardenings()) {
+    const J2Plasticity m(kE, kNu, kSy, h, true);
+    const std::vector<Real> virgin = virgin_history(m);
+    const auto check = [&](const Vec6& E, const std::vector<Real>& old, int yielding, const char* what) {
+      const State s = eval(m, E, old, true);
+      EXPECT_EQ(s.history[J2Plasticity::kFiniteYielding], yielding) << what;
+      const Mat6 num = numeric_tangent(m, E, old, 1e-7, true);
+      EXPECT_LT((s.tangent - num).norm(), 1e-6 * s.tangent.norm())
+          << what << " (hardening H " << h.H << " voce " << h.voce << ")\n" << s.tangent << "\n\n" << num;
+      return s;
+    };
+    const State zero = check(Vec6::Zero(), virgin, 0, "undeformed");
+    const Mat6 D = isotropic_elasticity(kE * kNu / ((1 + kNu) * (1 - 2 * kNu)), kE / (2 * (1 + kNu)));
+    EXPECT_LT((zero.tangent - D).norm(), 1e-12 * D.norm()) << "the small-strain elasticity at F = I";
+    check(green_lagrange(large_deformation(0.002)), virgin, 0, "elastic");
+    const State p = check(green_lagrange(large_deformation(1.0)), virgin, 1, "plastic loading from virgin");
+    check(green_lagrange(large_deformation(1.0) * Eigen::AngleAxis<Real>(0.3, Vec3::UnitZ()).toRotationMatrix() *
+                         Vec3(1.1, 0.97, 1.02).asDiagonal()),
+          p.history, 1, "plastic loading from a plastic state");
+    check(green_lagrange(Vec3(1.2, 0.93, 0.93).asDiagonal()), virgin, 1, "two equal stretches");
+    check(green_lagrange(large_deformation(0.995)), p.history, 0, "elastic unloading from a plastic state");
+  }
+}
+
+// Small strains: the finite-strain model's stress and plastic strain approach the small-strain
+// model's (a yield strain of 1e-6 so that the difference, of the order of the strain, is small).
+TEST(J2PlasticityFinite, AgreesWithTheSmallStrainModelAtSmallStrains) {
+  const Real sy = 0.21, ey = sy / kE;  // yield strain 1e-6
+  for (const J2Hardening& h0 : isotropic_hardenings()) {
+    J2Hardening h = h0;
+    h.saturation *= sy / kSy;  // Voce: keep saturation / yield as before
+    const J2Plasticity small(kE, kNu, sy, h), finite(kE, kNu, sy, h, true);
+    const Vec6 strain = 3 * ey * kDirection;
+    const State a = eval(small, strain, std::vector<Real>(small.history_size(), 0.0));
+    const State b = eval(finite, strain, virgin_history(finite), true);
+    EXPECT_EQ(b.history[J2Plasticity::kFiniteYielding], 1);
+    EXPECT_LT((a.stress - b.stress).norm(), 1e-4 * a.stress.norm());
+    EXPECT_NEAR(b.history[J2Plasticity::kFiniteAlpha], a.history[J2Plasticity::kAlpha],
+                1e-4 * a.history[J2Plasticity::kAlpha]);
+    EXPECT_LT((a.tangent - b.tangent).norm(), 1e-4 * a.tangent.norm());
+  }
+}
+
+// The returned state lies on the yield surface: the von Mises stress of the Kirchhoff stress
+// tau = F S F^T is sigma_y(alpha); plastic flow preserves volume (det F_p = 1); the
+// dissipation is sigma_y0 alpha. Checked after two plastic steps in different directions.
+TEST(J2PlasticityFinite, ReturnedStateLiesOnTheYieldSurface) {
+  for (const J2Hardening& h : isotropic_hardenings()) {
+    const J2Plasticity m(kE, kNu, kSy, h, true);
+    const State s = eval_finite(m, large_deformation(1.0), virgin_history(m));
+    const Mat3 F2 = large_deformation(0.5) * Vec3(0.9, 1.15, 1.0).asDiagonal();
+    const State t = eval_finite(m, F2, s.history);
+    for (const auto& [st, F] : {std::pair{&s, large_deformation(1.0)}, std::pair{&t, F2}}) {
+      const Real alpha = st->history[J2Plasticity::kFiniteAlpha];
+      ASSERT_GT(alpha, 0);
+      const Mat3 tau = F * from_voigt_stress(st->stress) * F.transpose();
+      EXPECT_NEAR(mises(to_voigt_stress(tau)), m.yield_stress(alpha), 1e-10 * kSy);
+      EXPECT_NEAR(plastic_deformation(st->history).determinant(), 1, 1e-12);
+      EXPECT_NEAR(st->history[J2Plasticity::kFiniteDissipation], kSy * alpha, 1e-10 * kSy);
+      EXPECT_GE(st->history[J2Plasticity::kFiniteWork], st->history[J2Plasticity::kFiniteDissipation] * (1 - 1e-10));
+    }
+    EXPECT_GT(t.history[J2Plasticity::kFiniteAlpha], s.history[J2Plasticity::kFiniteAlpha]);
+  }
+}
+
+// Uniaxial tension to a logarithmic strain of 0.5 (65 % elongation): with fixed principal axes
+// the logarithmic strains add up exactly, so the exponential map reproduces the closed form at
+// any step size: Kirchhoff stress tau = sigma_y(alpha), total axial log strain
+// eps = tau / E + alpha, lateral log strain -nu tau / E - alpha / 2 (Hencky elasticity, plastic
+// incompressibility). The lateral stretches are set from the closed form and the lateral
+// stresses must come out zero; one step and twenty steps give the same state.
+TEST(J2PlasticityFinite, UniaxialTensionIsExactAtLargeStrain) {
+  for (const J2Hardening& h : isotropic_hardenings()) {
+    const J2Plasticity m(kE, kNu, kSy, h, true);
+    // alpha from eps = sigma_y(alpha) / E + alpha (increasing in alpha: bisection).
+    const auto closed_form = [&](Real eps, Real& alpha, Real& tau, Real& lateral) {
+      Real lo = 0, hi = eps;
+      for (int i = 0; i < 200; ++i) {
+        const Real mid = 0.5 * (lo + hi);
+        (m.yield_stress(mid) / kE + mid < eps ? lo : hi) = mid;
+      }
+      alpha = 0.5 * (lo + hi);
+      tau = m.yield_stress(alpha);
+      lateral = -kNu * tau / kE - alpha / 2;
+    };
+    for (int steps : {1, 20}) {
+      std::vector<Real> hist = virgin_history(m);
+      State s;
+      s.stress.setZero();
+      Real alpha = 0, tau = 0, lateral = 0;
+      for (int k = 1; k <= steps; ++k) {
+        const Real eps = 0.5 * k / steps;
+        closed_form(eps, alpha, tau, lateral);
+        const Mat3 F = Vec3(std::exp(eps), std::exp(lateral), std::exp(lateral)).asDiagonal();
+        s = eval_finite(m, F, hist);
+        hist = s.history;
+      }
+      const Real stretch = std::exp(0.5);
+      EXPECT_NEAR(s.stress(0) * stretch * stretch, tau, 1e-9 * tau) << steps << " steps, H " << h.H << " voce " << h.voce;
+      EXPECT_NEAR(s.stress(1), 0, 1e-9 * tau);
+      EXPECT_NEAR(s.stress(2), 0, 1e-9 * tau);
+      EXPECT_NEAR(s.history[J2Plasticity::kFiniteAlpha], alpha, 1e-9 * alpha);
+      EXPECT_NEAR(std::log(s.history[J2Plasticity::kPlasticDeformation]), alpha, 1e-9 * alpha) << "axial F_p";
+    }
+  }
+}
+
+TEST(J2PlasticityFinite, KinematicHardeningIsRefused) {
+  J2Hardening h;
+  h.kinematic = 1000;
+  EXPECT_THROW(J2Plasticity(kE, kNu, kSy, h, true), Error);
+  const J2Plasticity m(kE, kNu, kSy, J2Hardening{}, true);
+  std::vector<Real> hist = virgin_history(m);
+  EXPECT_EQ(plastic_deformation(hist), Mat3::Identity());
+  State s;
+  s.history.assign(m.history_size(), 0);
+  MaterialInput in;  // small strain input to a finite-strain material
+  in.history_old = hist.data();
+  in.history_new = s.history.data();
+  EXPECT_THROW(m.compute(in, s.stress, s.tangent), Error);
 }

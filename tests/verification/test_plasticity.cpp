@@ -63,11 +63,11 @@ Real hill_pressure_for(Real u) {
   return 0.5 * (lo + hi);
 }
 
-std::string deck(Real p, Real h, const std::string& increments) {
+std::string deck(Real p, Real h, const std::string& increments, bool finite) {
   const std::string geo =
       (std::filesystem::path(SIGNORINI_SOURCE_DIR) / "examples" / "lame_cylinder" / "lame_cylinder.geo").string();
   return "title: thick cylinder, J2 perfectly plastic\n"
-         "analysis: {dimension: plane_strain, kinematics: small_strain}\n"
+         "analysis: {dimension: plane_strain, kinematics: " + std::string(finite ? "finite_strain" : "small_strain") + "}\n"
          "mesh: {file: " + geo + ", parameters: {h: " + std::to_string(h) + "}}\n"
          "materials:\n  steel: {model: j2_plasticity, E: 210e9, nu: 0.3, yield_stress: 240e6}\n"
          "bodies:\n  - {name: cylinder, region: Cylinder, material: steel}\n"
@@ -78,7 +78,7 @@ std::string deck(Real p, Real h, const std::string& increments) {
 }
 
 struct Point {
-  Real p, ub, front;
+  Real p, ua, ub, front;
 };
 
 struct CylinderRun {
@@ -86,25 +86,28 @@ struct CylinderRun {
   std::vector<Point> curve;
 };
 
-CylinderRun run_cylinder(Real p, Real h, const std::string& increments) {
+CylinderRun run_cylinder(Real p, Real h, const std::string& increments, bool finite = false) {
   namespace fs = std::filesystem;
   log::set_level(log::Level::warning);
   const fs::path tmp = fs::temp_directory_path() / ("signorini_plastic_cylinder_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << deck(p, h, increments);
+  std::ofstream(tmp) << deck(p, h, increments, finite);
   Registry r = default_registry();
   Model m = read_deck(tmp.string(), r);
   fs::remove(tmp);
   Analysis a(m);
   CylinderRun out;
   // The outer node on the x axis, and each cell's centroid radius.
-  Index outer = 0;
-  for (Index n = 0; n < m.mesh.num_nodes(); ++n)
+  Index outer = 0, inner = 0;
+  for (Index n = 0; n < m.mesh.num_nodes(); ++n) {
     if ((m.mesh.nodes[n] - Vec3(kB, 0, 0)).norm() < (m.mesh.nodes[outer] - Vec3(kB, 0, 0)).norm()) outer = n;
+    if ((m.mesh.nodes[n] - Vec3(kA, 0, 0)).norm() < (m.mesh.nodes[inner] - Vec3(kA, 0, 0)).norm()) inner = n;
+  }
   const Body& body = *m.bodies.front();
   a.on_increment([&](const Analysis& an, const IncrementRecord& rec) {
     Point pt;
     pt.p = rec.fraction * p;
     pt.ub = an.displacement()(an.dofs().dof(outer, 0));
+    pt.ua = an.displacement()(an.dofs().dof(inner, 0));
     // Plastic front: the outermost cell centroid with plastic strain at some quadrature point.
     pt.front = kA;
     const QuadratureHistory& hist = an.history(0);
@@ -114,7 +117,8 @@ CylinderRun run_cylinder(Real p, Real h, const std::string& increments) {
       for (Index e = 0; e < b.size(); ++e) {
         const Real* v = hist.committed(bi, e);
         bool plastic = false;
-        for (Index q = 0; q < nq; ++q) plastic = plastic || v[q * hist.per_point() + J2Plasticity::kAlpha] > 0;
+        const int slot = static_cast<const J2Plasticity&>(body.material()).alpha_slot();
+        for (Index q = 0; q < nq; ++q) plastic = plastic || v[q * hist.per_point() + slot] > 0;
         if (!plastic) continue;
         Vec3 c = Vec3::Zero();
         for (int k = 0; k < b.nodes_per_element(); ++k) c += m.mesh.nodes[b.element(e)[k]];
@@ -127,11 +131,10 @@ CylinderRun run_cylinder(Real p, Real h, const std::string& increments) {
   return out;
 }
 
-}  // namespace
 
-TEST(Plasticity, ThickCylinderFollowsHillUpToTheLimitPressure) {
+void follows_hill(bool finite, Real up_to) {
   const Real h = 0.005;
-  const CylinderRun r = run_cylinder(0.99 * kPlim, h, "{initial: 0.05, max: 0.05}");
+  const CylinderRun r = run_cylinder(up_to * kPlim, h, "{initial: 0.05, max: 0.05}", finite);
   ASSERT_TRUE(r.summary.completed) << r.summary.failure;
   int plastic_points = 0;
   for (const Point& pt : r.curve) {
@@ -161,17 +164,36 @@ TEST(Plasticity, ThickCylinderFollowsHillUpToTheLimitPressure) {
   EXPECT_LE(its, 6 * static_cast<int>(r.summary.increments.size()));
 }
 
-// Beyond the limit pressure no equilibrium exists: asked for 1.03 p_lim, the run cuts its
-// increments back and gives up with its last converged pressure within 1 % of p_lim (the
-// issue's check that the limit pressure is reached within 1 %; a locking discretization would
-// carry more).
-TEST(Plasticity, ThickCylinderCannotCarryMoreThanTheLimitPressure) {
-  const CylinderRun r = run_cylinder(1.03 * kPlim, 0.005, "{initial: 0.05, max: 0.05, min: 1e-3}");
+void limit_pressure(bool finite) {
+  const CylinderRun r = run_cylinder(1.03 * kPlim, 0.005, "{initial: 0.05, max: 0.05, min: 1e-3}", finite);
   EXPECT_FALSE(r.summary.completed) << "1.03 p_lim carried";
   ASSERT_FALSE(r.curve.empty());
   const Real last = r.curve.back().p;
   std::printf("last converged pressure %.3f MPa = %.4f p_lim (p_lim %.3f MPa); u(b) there %.4f mm (elastic limit %.4f)\n",
               last / 1e6, last / kPlim, kPlim / 1e6, r.curve.back().ub * 1e3, outer_displacement(hill_pressure(kA)) * 1e3);
-  EXPECT_GT(last, 0.99 * kPlim);
-  EXPECT_LT(last, 1.01 * kPlim);
+  // At finite strain the follower pressure acts on the deformed bore, and the limit is that of
+  // the deformed section, (2 / sqrt 3) sigma_y ln((b + u_b) / (a + u_a)) (0.4 % below p_lim).
+  const Point& pt = r.curve.back();
+  const Real limit = finite ? 2 / std::sqrt(3.0) * kSy * std::log((kB + pt.ub) / (kA + pt.ua)) : kPlim;
+  if (finite) std::printf("the deformed section's limit %.3f MPa = %.4f p_lim\n", limit / 1e6, limit / kPlim);
+  EXPECT_GT(last, 0.99 * limit);
+  EXPECT_LT(last, 1.01 * limit);
 }
+
+}  // namespace
+
+TEST(Plasticity, ThickCylinderFollowsHillUpToTheLimitPressure) { follows_hill(false, 0.99); }
+
+// The same with the multiplicative finite-strain model (F = F_e F_p, Hencky, exponential map)
+// and the follower pressure, up to 0.95 p_lim: there the geometry has hardly changed (the bore
+// grows by 0.2 %), so Hill's small-strain solution is the reference with the same tolerances
+// (measured: u(b) +1.8 % at 0.94 p_lim). Closer to p_lim the deformed section's lower limit
+// (0.4 % below) takes over; the limit test below checks that one.
+TEST(Plasticity, ThickCylinderFollowsHillAtFiniteStrain) { follows_hill(true, 0.95); }
+
+// Beyond the limit pressure no equilibrium exists: asked for 1.03 p_lim, the run cuts its
+// increments back and gives up with its last converged pressure within 1 % of p_lim (the
+// issue's check that the limit pressure is reached within 1 %; a locking discretization would
+// carry more).
+TEST(Plasticity, ThickCylinderCannotCarryMoreThanTheLimitPressure) { limit_pressure(false); }
+TEST(Plasticity, ThickCylinderCannotCarryMoreThanTheLimitPressureAtFiniteStrain) { limit_pressure(true); }

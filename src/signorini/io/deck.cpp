@@ -266,10 +266,13 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
       if ((p.kind == ParamKind::number || p.kind == ParamKind::integer) && (!p.optional || mn.has(p.name)))
         pv[p.name] = mn.number(*spec, p.name);
     if (model == "j2_plasticity") {
-      if (m.settings.finite_strain)
-        mn.child("model").fail("j2_plasticity is a small-strain model for now (the multiplicative finite-strain "
-                               "J2 is not built yet): use analysis.kinematics: small_strain");
       if (mn.has("hardening")) read_hardening(mn.child("hardening"), r, pv);
+      // The finite-strain model (multiplicative, F = F_e F_p) has isotropic hardening only.
+      pv["finite_strain"] = m.settings.finite_strain;
+      if (m.settings.finite_strain && mn.has("hardening") && mn.child("hardening").has("kinematic"))
+        mn.child("hardening").child("kinematic").fail(
+            "kinematic hardening is for small strain only (the finite-strain j2_plasticity has isotropic hardening; "
+            "use analysis.kinematics: small_strain, or remove 'kinematic')");
     }
     materials[name] = r.make_material(model, pv);
   }

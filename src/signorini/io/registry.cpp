@@ -145,10 +145,13 @@ void register_materials(Registry& r) {
                    number("nu", "Poisson's ratio (small-strain limit)", std::nullopt, -1, 0.5, true, true)}},
                  [](const ParamValues& p) { return std::make_shared<NeoHookean>(p.at("E"), p.at("nu")); });
   r.add_material({"material", "j2_plasticity",
-                  "Von Mises (J2) plasticity at small strain, radial return with the consistent tangent (Simo & "
-                  "Hughes 1998, Box 3.2); isotropic hardening linear or Voce, linear kinematic hardening; perfectly "
-                  "plastic without 'hardening'. History output: plastic strain, equivalent plastic strain, back "
-                  "stress, plastic work, plastic dissipation, yielding (1 where the last increment yielded).",
+                  "Von Mises (J2) plasticity, radial return with the consistent tangent (Simo & Hughes 1998, Box "
+                  "3.2); isotropic hardening linear or Voce, linear kinematic hardening (small strain only); "
+                  "perfectly plastic without 'hardening'. With kinematics: finite_strain, the multiplicative model "
+                  "F = F_e F_p with a Hencky elastic law and the exponential map (Simo 1992; Eterovic & Bathe "
+                  "1990). History output: plastic strain (small) or plastic deformation gradient F_p (finite), "
+                  "equivalent plastic strain, back stress (small), plastic work, plastic dissipation, yielding (1 "
+                  "where the last increment yielded).",
                   {choice("model", model_doc, {"j2_plasticity"}, std::nullopt),
                    number("E", "Young's modulus", std::nullopt, 0, INFINITY, true),
                    number("nu", "Poisson's ratio", std::nullopt, -1, 0.5, true, true),
@@ -163,7 +166,8 @@ void register_materials(Registry& r) {
                    h.saturation = get("hardening.isotropic.saturation");
                    h.rate = get("hardening.isotropic.rate");
                    h.kinematic = get("hardening.kinematic.H");
-                   return std::make_shared<J2Plasticity>(p.at("E"), p.at("nu"), p.at("yield_stress"), h);
+                   const bool finite = p.count("finite_strain") && p.at("finite_strain") != 0;
+                   return std::make_shared<J2Plasticity>(p.at("E"), p.at("nu"), p.at("yield_stress"), h, finite);
                  });
 }
 
