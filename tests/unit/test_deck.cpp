@@ -449,6 +449,14 @@ TEST(Deck, J2PlasticityHardeningErrors) {
   EXPECT_EQ(j2m->history_size(), 13);
   m = error_of("j2_negative_H", replace(good, "H: 1e9", "H: -1e9"));
   EXPECT_MESSAGE(m, "j2_negative_H.yaml:5", "hardening.kinematic.H", ">= 0");
+  // Viscoplasticity: a rate exponent needs a viscosity; neither may be negative; a step's time > 0.
+  m = error_of("j2_rate_exponent", replace(good, "yield_stress: 240e6", "yield_stress: 240e6, rate_exponent: 2"));
+  EXPECT_MESSAGE(m, "j2_rate_exponent.yaml:5", "materials.steel.rate_exponent", "needs a viscosity");
+  m = error_of("j2_viscosity", replace(good, "yield_stress: 240e6", "yield_stress: 240e6, viscosity: -1"));
+  EXPECT_MESSAGE(m, "j2_viscosity.yaml:5", "materials.steel.viscosity", ">= 0");
+  EXPECT_NO_THROW(read_deck(write_deck("j2_visco", replace(good, "yield_stress: 240e6", "yield_stress: 240e6, viscosity: 10, rate_exponent: 2")), r));
+  m = error_of("step_time", replace(good, "  - name: pull\n", "  - name: pull\n    time: 0\n"));
+  EXPECT_MESSAGE(m, "step_time.yaml:", "steps[0].time", "> 0");
 }
 
 // solver.linear: a bare name, or {type, rtol, options}; every key checked, with the place.

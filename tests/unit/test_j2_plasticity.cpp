@@ -346,3 +346,108 @@ TEST(J2PlasticityFinite, KinematicHardeningIsRefused) {
   in.history_new = s.history.data();
   EXPECT_THROW(m.compute(in, s.stress, s.tangent), Error);
 }
+
+// ---- Viscoplasticity (Perzyna overstress) ----
+
+namespace {
+
+State eval_dt(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, Real dt, bool finite = false) {
+  State s;
+  s.history.assign(m.history_size(), 0);
+  MaterialInput in;
+  in.finite = finite;
+  in.dt = dt;
+  in.strain = strain;
+  in.history_old = old.data();
+  in.history_new = s.history.data();
+  m.compute(in, s.stress, s.tangent);
+  return s;
+}
+
+}  // namespace
+
+// The viscoplastic tangent against central differences (small and finite strain, rate
+// exponents 1 and 3, every hardening), with an overstress of the order of the yield stress.
+TEST(J2Viscoplasticity, TangentMatchesCentralDifferences) {
+  const Real ey = kSy / kE;
+  for (bool finite : {false, true})
+    for (Real m : {1.0, 3.0})
+      for (const J2Hardening& h : finite ? isotropic_hardenings() : hardenings()) {
+        const J2Plasticity mat(kE, kNu, kSy, h, finite, J2Viscosity{20, m});
+        std::vector<Real> old(mat.history_size());
+        mat.initialize_history(old.data());
+        const Vec6 strain = 3 * ey * kDirection;
+        const Real dt = 0.1;
+        const State s = eval_dt(mat, strain, old, dt, finite);
+        ASSERT_EQ(s.history[mat.yielding_slot()], 1);
+        Mat6 num;
+        for (int b = 0; b < 6; ++b) {
+          Vec6 e = Vec6::Zero();
+          e(b) = 1e-9;
+          num.col(b) = (eval_dt(mat, strain + e, old, dt, finite).stress - eval_dt(mat, strain - e, old, dt, finite).stress) /
+                       2e-9;
+        }
+        EXPECT_LT((s.tangent - num).norm(), 1e-6 * s.tangent.norm())
+            << (finite ? "finite" : "small") << " m " << m << " H " << h.H << " voce " << h.voce << " kin " << h.kinematic;
+        // The overstress is real: the stress is outside the rate-independent yield surface.
+        const J2Plasticity ri(kE, kNu, kSy, h, finite);
+        const State r = eval_dt(ri, strain, old, dt, finite);
+        EXPECT_GT(s.history[mat.alpha_slot()], 0);
+        EXPECT_LT(s.history[mat.alpha_slot()], 0.9 * r.history[ri.alpha_slot()]) << "viscosity slows the flow";
+      }
+}
+
+// Viscosity -> 0 recovers the rate-independent return; viscosity 0 is it; no time (dt = 0, an
+// output evaluation) means no viscous flow.
+TEST(J2Viscoplasticity, RateIndependentLimitAndNoFlowWithoutTime) {
+  const Real ey = kSy / kE;
+  for (const J2Hardening& h : hardenings()) {
+    const J2Plasticity ri(kE, kNu, kSy, h);
+    std::vector<Real> old(ri.history_size(), 0.0);
+    const Vec6 strain = 3 * ey * kDirection;
+    const State r = eval_dt(ri, strain, old, 1.0);
+    const State zero = eval_dt(J2Plasticity(kE, kNu, kSy, h, false, J2Viscosity{0, 2}), strain, old, 1.0);
+    EXPECT_EQ((r.stress - zero.stress).norm(), 0);
+    for (Real m : {1.0, 4.0}) {
+      const J2Plasticity v(kE, kNu, kSy, h, false, J2Viscosity{1e-10, m});
+      const State s = eval_dt(v, strain, old, 1.0);
+      EXPECT_LT((s.stress - r.stress).norm(), 1e-6 * r.stress.norm() * (m == 1 ? 1 : 1e3)) << "m " << m;
+      const State none = eval_dt(v, strain, old, 0.0);
+      EXPECT_EQ(none.history[J2Plasticity::kYielding], 0);
+      EXPECT_EQ(none.history[J2Plasticity::kAlpha], 0);
+    }
+  }
+}
+
+// Uniaxial stress at a constant strain rate, perfectly plastic, m = 1: after yield
+// d(sigma)/dt = E (rate - (1 / eta) (sigma / sigma_y - 1)), so sigma tends to the steady
+// overstress sigma_y (1 + eta rate) with the time constant eta sigma_y / E:
+// sigma(t) = s_ss + (sigma_y - s_ss) exp(-E (t - t_y) / (eta sigma_y)). Backward Euler reaches
+// the steady state exactly; on the way it is first-order accurate (50 steps per time constant:
+// within 2 % of the overstress). The dissipation equals the plastic work (nothing stored).
+TEST(J2Viscoplasticity, UniaxialConstantStrainRate) {
+  const Real eta = 2.0, rate = 2e-4;
+  const J2Plasticity m(kE, kNu, kSy, J2Hardening{}, false, J2Viscosity{eta, 1});
+  const Real tc = eta * kSy / kE, ty = kSy / (kE * rate), s_ss = kSy * (1 + eta * rate);
+  const Real dt = tc / 50;
+  std::vector<Real> hist(m.history_size(), 0.0);
+  Real lateral = 0, worst = 0;
+  State s;
+  s.stress.setZero();
+  for (int k = 1; k * dt < ty + 10 * tc; ++k) {
+    const Real t = k * dt, exx = rate * t;
+    for (int it = 0; it < 30; ++it) {
+      s = eval_dt(m, (Vec6() << exx, lateral, lateral, 0, 0, 0).finished(), hist, dt);
+      if (std::abs(s.stress(1)) < 1e-11 * kSy) break;
+      lateral -= s.stress(1) / (s.tangent(1, 1) + s.tangent(1, 2));
+    }
+    hist = s.history;
+    const Real exact = t < ty ? kE * exx : s_ss + (kSy - s_ss) * std::exp(-(t - ty) / tc);
+    worst = std::max(worst, std::abs(s.stress(0) - exact));
+  }
+  std::printf("steady stress %.6f (closed form %.6f); worst error on the way %.3g of the overstress\n", s.stress(0), s_ss,
+              worst / (s_ss - kSy));
+  EXPECT_NEAR(s.stress(0), s_ss, 1e-4 * (s_ss - kSy));
+  EXPECT_LT(worst, 0.02 * (s_ss - kSy));
+  EXPECT_NEAR(hist[J2Plasticity::kDissipation], hist[J2Plasticity::kWork], 1e-9 * hist[J2Plasticity::kWork]);
+}

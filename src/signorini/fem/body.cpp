@@ -39,7 +39,7 @@ const Body::BlockCache& Body::cache(ElementType t) const {
 }
 
 void Body::element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue, const Real* hist_old,
-                   Real* hist_new, VecX& fe, MatX* ke, Vec6* mean_stress, Vec6* mean_strain) const {
+                   Real* hist_new, VecX& fe, MatX* ke, Vec6* mean_stress, Vec6* mean_strain, Real dt) const {
   const BlockCache& c = cache(type);
   const int nn = static_cast<int>(Xe.size());
   const int dim = settings_.spatial_dim();
@@ -88,6 +88,7 @@ void Body::element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue
     }
     MaterialInput in;
     in.finite = finite;
+    in.dt = dt;
     const Index qoff = static_cast<Index>(q) * hs;
     in.history_old = hist_old ? hist_old + qoff : nullptr;
     in.history_new = hist_new ? hist_new + qoff : nullptr;
@@ -204,7 +205,7 @@ void gather(const ElementBlock& b, Index e, const std::vector<Vec3>& X, const Ve
 }  // namespace
 
 void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
-                    QuadratureHistory* history) const {
+                    QuadratureHistory* history, Real dt) const {
   if (rigid()) return;  // no strain energy; its nodes move with the reference node
   const int hs = material_->history_size();
   if (hs && (!history || history->per_point() != hs))
@@ -233,7 +234,7 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
           try {
             gather(b, e, X, u, dofs, Xe, ue, edofs);
             element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? history->trial(bi, e) : nullptr, fe,
-                    matrix ? &ke : nullptr);
+                    matrix ? &ke : nullptr, nullptr, nullptr, dt);
             for (size_t i = 0; i < edofs.size(); ++i)
               if (edofs[i] >= 0) fint(edofs[i]) += fe(i);
             if (matrix) matrix->add(edofs.data(), static_cast<int>(edofs.size()), ke);

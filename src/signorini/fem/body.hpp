@@ -44,9 +44,9 @@ class Body {
   // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
   // tangent. Reads the committed history and writes the trial one of `history` (the body's,
   // owned by the analysis; may be null for a material without history); throws SolverError
-  // on a non-physical state.
+  // on a non-physical state. dt: the increment's time (rate-dependent materials).
   void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
-                QuadratureHistory* history = nullptr) const;
+                QuadratureHistory* history = nullptr, Real dt = 0) const;
   // Adds the consistent nodal forces of a dead body force b (per unit reference volume).
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,
                       VecX& fext) const;
@@ -62,7 +62,7 @@ class Body {
   // Xe: nodal reference coordinates, ue: nodal displacements (ndpn per node, node-major).
   void element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue, const Real* hist_old,
                Real* hist_new, VecX& fe, MatX* ke, Vec6* mean_stress = nullptr,
-               Vec6* mean_strain = nullptr) const;
+               Vec6* mean_strain = nullptr, Real dt = 0) const;
 
  private:
   struct BlockCache {

@@ -51,6 +51,7 @@ struct Step {
   Real min_increment = 1e-5;
   Real max_increment = 1.0;
   int max_increments = 10000;
+  Real duration = 1;             // the step's time (key `time`), for rate-dependent materials
   std::vector<DirichletCondition> dirichlet;
   std::vector<ObstacleMotion> obstacles;
   std::vector<Load> loads;

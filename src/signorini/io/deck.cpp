@@ -267,6 +267,8 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
         pv[p.name] = mn.number(*spec, p.name);
     if (model == "j2_plasticity") {
       if (mn.has("hardening")) read_hardening(mn.child("hardening"), r, pv);
+      if (mn.has("rate_exponent") && !(pv["viscosity"] > 0))
+        mn.child("rate_exponent").fail("a rate exponent needs a viscosity > 0 (viscoplasticity)");
       // The finite-strain model (multiplicative, F = F_e F_p) has isotropic hardening only.
       pv["finite_strain"] = m.settings.finite_strain;
       if (m.settings.finite_strain && mn.has("hardening") && mn.child("hardening").has("kinematic"))
@@ -376,6 +378,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
   Step step;
   step.name = s.has("name") ? s.child("name").as_string() : "step" + std::to_string(index + 1);
   const int dim = m.settings.spatial_dim();
+  step.duration = s.number(spec, "time");
   if (s.has("increments")) {
     const TypeSpec& is = deck_spec(r, "increments");
     Node inc = s.child("increments");

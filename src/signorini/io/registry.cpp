@@ -149,7 +149,8 @@ void register_materials(Registry& r) {
                   "3.2); isotropic hardening linear or Voce, linear kinematic hardening (small strain only); "
                   "perfectly plastic without 'hardening'. With kinematics: finite_strain, the multiplicative model "
                   "F = F_e F_p with a Hencky elastic law and the exponential map (Simo 1992; Eterovic & Bathe "
-                  "1990). History output: plastic strain (small) or plastic deformation gradient F_p (finite), "
+                  "1990). With a viscosity, Perzyna viscoplasticity (backward Euler; the steps' `time` sets the "
+                  "rate). History output: plastic strain (small) or plastic deformation gradient F_p (finite), "
                   "equivalent plastic strain, back stress (small), plastic work, plastic dissipation, yielding (1 "
                   "where the last increment yielded).",
                   {choice("model", model_doc, {"j2_plasticity"}, std::nullopt),
@@ -157,7 +158,11 @@ void register_materials(Registry& r) {
                    number("nu", "Poisson's ratio", std::nullopt, -1, 0.5, true, true),
                    number("yield_stress", "initial yield stress sigma_y0 (uniaxial)", std::nullopt, 0, INFINITY, true),
                    opt(text("hardening", "{isotropic: {...}, kinematic: {...}} (see 'describe hardening'); absent: "
-                                         "perfectly plastic", std::nullopt, ParamKind::any))}},
+                                         "perfectly plastic", std::nullopt, ParamKind::any)),
+                   number("viscosity", "Perzyna viscosity eta (time, in the steps' `time` units): d(alpha)/dt = "
+                                       "(1/eta) <q/sigma_y - 1>^m; 0: rate independent",
+                          "0", 0, INFINITY),
+                   number("rate_exponent", "Perzyna rate exponent m (with a viscosity)", "1", 0, INFINITY, true)}},
                  [](const ParamValues& p) {
                    J2Hardening h;
                    auto get = [&](const char* k) { return p.count(k) ? p.at(k) : 0.0; };
@@ -167,7 +172,9 @@ void register_materials(Registry& r) {
                    h.rate = get("hardening.isotropic.rate");
                    h.kinematic = get("hardening.kinematic.H");
                    const bool finite = p.count("finite_strain") && p.at("finite_strain") != 0;
-                   return std::make_shared<J2Plasticity>(p.at("E"), p.at("nu"), p.at("yield_stress"), h, finite);
+                   const J2Viscosity v{p.count("viscosity") ? p.at("viscosity") : 0.0,
+                                       p.count("rate_exponent") ? p.at("rate_exponent") : 1.0};
+                   return std::make_shared<J2Plasticity>(p.at("E"), p.at("nu"), p.at("yield_stress"), h, finite, v);
                  });
 }
 
@@ -244,6 +251,8 @@ void register_deck_sections(Registry& r) {
   r.add({"deck", "step", "A load step. Prescribed values and loads ramp linearly over the step.",
          {text("name", "step name", "step<N>"),
           opt(text("increments", "{initial, min, max, max_count}: fractions of the step", std::nullopt, ParamKind::any)),
+          number("time", "the step's duration (time units of the viscosities): an increment of fraction f lasts f "
+                         "time; only rate-dependent materials read it", "1", 0, INFINITY, true),
           opt(text("boundary", "list of Dirichlet conditions (see 'describe boundary')", std::nullopt, ParamKind::any)),
           opt(text("loads", "list of loads (see 'describe load')", std::nullopt, ParamKind::any))}});
   r.add({"deck", "increments", "Increment control of a step (fractions of the step).",

@@ -24,8 +24,11 @@ Real log_over_x_divided_difference(Real a, Real b) {
 }
 }  // namespace
 
-J2Plasticity::J2Plasticity(Real E, Real nu, Real yield_stress, J2Hardening hardening, bool finite)
-    : E_(E), nu_(nu), sy0_(yield_stress), h_(hardening), finite_(finite) {
+J2Plasticity::J2Plasticity(Real E, Real nu, Real yield_stress, J2Hardening hardening, bool finite,
+                           J2Viscosity viscosity)
+    : E_(E), nu_(nu), sy0_(yield_stress), h_(hardening), visc_(viscosity), finite_(finite) {
+  if (!(viscosity.viscosity >= 0) || !(viscosity.rate_exponent > 0))
+    throw Error("j2_plasticity: the viscosity must be >= 0 and the rate exponent > 0");
   if (finite && hardening.kinematic != 0)
     throw Error("j2_plasticity: kinematic hardening is for small strain only (the finite-strain model has "
                 "isotropic hardening)");
@@ -62,11 +65,14 @@ Real J2Plasticity::yield_slope(Real alpha) const {
   return d;
 }
 
-void J2Plasticity::radial_return(Real norm, Real alpha, Real& dg, Real& slope) const {
+J2Plasticity::Return J2Plasticity::radial_return(Real norm, Real alpha, Real dt) const {
+  Return r;
+  if (!(norm - kSqrt23 * yield_stress(alpha) > 0)) return r;  // inside the yield surface
+  if (visc_.viscosity > 0 && !(dt > 0)) return r;             // no time, no viscous flow
   // g(dg) = |xi_trial| - 2 mu dg - 2/3 H_k dg - sqrt(2/3) sigma_y(alpha + sqrt(2/3) dg) = 0
   // (Box 3.2, step 3). g is decreasing and convex for linear and Voce hardening, so Newton
   // from dg = 0 rises monotonically to the root.
-  dg = 0;
+  Real dg = 0;
   for (int it = 0;; ++it) {
     const Real a = alpha + kSqrt23 * dg;
     const Real g = norm - 2 * mu_ * dg - 2.0 / 3.0 * h_.kinematic * dg - kSqrt23 * yield_stress(a);
@@ -76,7 +82,49 @@ void J2Plasticity::radial_return(Real norm, Real alpha, Real& dg, Real& slope) c
     if (std::abs(step) <= 1e-14 * std::max(dg, 1e-300) || std::abs(g) <= 1e-14 * norm) break;
     if (it > 50) throw SolverError("j2_plasticity: the return map did not converge");
   }
-  slope = 2.0 / 3.0 * (h_.kinematic + yield_slope(alpha + kSqrt23 * dg));
+  r.plastic = true;
+  if (visc_.viscosity == 0) {
+    r.dg = dg;
+    r.slope = 2.0 / 3.0 * (h_.kinematic + yield_slope(alpha + kSqrt23 * dg));
+    return r;
+  }
+  // Perzyna overstress, backward Euler: d(alpha) / dt = (1 / eta) (q / sigma_y(alpha) - 1)^m
+  // (Perzyna 1966; de Souza Neto, Peric & Owen 2008, sec. 11.5), i.e. at the end of the
+  // increment |xi| = sqrt(2/3) sigma_y(alpha) (1 + y) with the overstress ratio
+  // y = (eta d(alpha) / dt)^(1/m). In y, with dg = c y^m and c = dt / (eta sqrt(2/3)),
+  //   G(y) = |xi_trial| - (2 mu + 2/3 H_k) dg - sqrt(2/3) sigma_y(alpha + sqrt(2/3) dg) (1 + y) = 0,
+  // G is decreasing (G' <= -sqrt(2/3) sigma_y < 0), G(0) = f_trial > 0 and G <= 0 at the
+  // rate-independent dg (y >= 0 there): Newton safeguarded by bisection in that bracket.
+  const Real m = visc_.rate_exponent, c = dt / (visc_.viscosity * kSqrt23);
+  const Real lin = 2 * mu_ + 2.0 / 3.0 * h_.kinematic;
+  auto G = [&](Real y, Real& dG) {
+    const Real d = c * std::pow(y, m), a = alpha + kSqrt23 * d;
+    const Real ddy = y > 0 ? m * d / y : (m == 1 ? c : 0.0);
+    dG = -(lin + 2.0 / 3.0 * yield_slope(a) * (1 + y)) * ddy - kSqrt23 * yield_stress(a);
+    return norm - lin * d - kSqrt23 * yield_stress(a) * (1 + y);
+  };
+  Real lo = 0, hi = std::pow(dg / c, 1 / m), y = 0, dG;
+  Real g = G(y, dG);
+  for (int it = 0;; ++it) {
+    Real next = y - g / dG;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    y = next;
+    g = G(y, dG);
+    (g > 0 ? lo : hi) = y;
+    if (std::abs(g) <= 1e-14 * norm || hi - lo <= 1e-15 * hi) break;
+    if (it > 200) throw SolverError("j2_plasticity: the viscoplastic return map did not converge");
+  }
+  r.dg = c * std::pow(y, m);
+  if (!(r.dg > 0)) return Return{};
+  r.overstress = y;
+  // slope = d/d(dg) [2/3 H_k dg + sqrt(2/3) sigma_y (1 + y)], with dy / d(dg) = y / (m dg).
+  const Real a = alpha + kSqrt23 * r.dg;
+  r.slope = 2.0 / 3.0 * (h_.kinematic + yield_slope(a) * (1 + y)) + kSqrt23 * yield_stress(a) * y / (m * r.dg);
+  return r;
+}
+
+Real J2Plasticity::dissipation(Real alpha_new, const Return& r) const {
+  return kSqrt23 * r.dg * (sy0_ + yield_stress(alpha_new) * r.overstress);
 }
 
 void J2Plasticity::compute(const MaterialInput& in, Vec6& stress, Mat6& tangent) const {
@@ -103,14 +151,13 @@ void J2Plasticity::compute_small(const MaterialInput& in, Vec6& stress, Mat6& ta
   for (int i = 0; i < 3; ++i) s(i) -= p;
   const Vec6 xi = s - beta;
   const Real norm = std::sqrt(contract(xi, xi));
-  const Real f = norm - kSqrt23 * yield_stress(alpha);
-  if (f <= 0 || norm == 0) {
+  const Return r = radial_return(norm, alpha, in.dt);
+  if (!r.plastic) {
     stress = trial;
     tangent = D_;
     return;
   }
-  Real dg, slope;
-  radial_return(norm, alpha, dg, slope);
+  const Real dg = r.dg, slope = r.slope;
   const Vec6 n = xi / norm;
   stress = trial - 2 * mu_ * dg * n;
   Vec6 deps_p = dg * n;
@@ -121,9 +168,9 @@ void J2Plasticity::compute_small(const MaterialInput& in, Vec6& stress, Mat6& ta
   // Plastic work sigma : d eps_p (backward Euler). Of it, the hardening stores
   // int (sigma_y - sigma_y0) d alpha (isotropic) and the back stress's energy (kinematic);
   // the rest, sigma_y0 d alpha, is dissipated (from |s - beta| = sqrt(2/3) sigma_y and
-  // d alpha = sqrt(2/3) d gamma).
+  // d alpha = sqrt(2/3) d gamma), plus the viscous overstress's sigma_y y d alpha.
   h1[kWork] = h0[kWork] + dg * contract(stress, n);
-  h1[kDissipation] = h0[kDissipation] + sy0_ * kSqrt23 * dg;
+  h1[kDissipation] = h0[kDissipation] + dissipation(h1[kAlpha], r);
   h1[kYielding] = 1;
   // Consistent tangent (Box 3.2, step 4): C = kappa 1 x 1 + 2 mu theta (I - 1/3 1 x 1)
   // - 2 mu theta_bar n x n, with theta = 1 - 2 mu dg / |xi_trial| and theta_bar =
@@ -180,10 +227,11 @@ void J2Plasticity::compute_finite(const MaterialInput& in, Vec6& stress, Mat6& t
   for (int a = 0; a < 3; ++a) s(a) = 2 * mu_ * (eps(a) - tr / 3);
   const Real norm = s.norm();
   const Real alpha = h0[kFiniteAlpha];
-  Real dg = 0, slope = 0, theta = 1, theta_bar = 0;
+  const Return r = radial_return(norm, alpha, in.dt);
+  const Real dg = r.dg, slope = r.slope;
+  Real theta = 1, theta_bar = 0;
   Vec3 n = Vec3::Zero();
-  if (norm > 0 && norm - kSqrt23 * yield_stress(alpha) > 0) {
-    radial_return(norm, alpha, dg, slope);
+  if (r.plastic) {
     n = s / norm;
     theta = 1 - 2 * mu_ * dg / norm;
     theta_bar = 2 * mu_ / (2 * mu_ + slope) - (1 - theta);
@@ -218,7 +266,7 @@ void J2Plasticity::compute_finite(const MaterialInput& in, Vec6& stress, Mat6& t
       tangent(p, q) = 2 * v;
     }
   }
-  if (dg == 0) return;
+  if (!r.plastic) return;
   // F_p,n+1 = exp(dg n) F_p,n (n in the principal axes of C_tr): volume preserving.
   Mat3 expn = Mat3::Zero();
   for (int a = 0; a < 3; ++a) expn += std::exp(dg * n(a)) * V.col(a) * V.col(a).transpose();
@@ -227,7 +275,7 @@ void J2Plasticity::compute_finite(const MaterialInput& in, Vec6& stress, Mat6& t
   // Plastic work tau : d(eps_p) and its dissipated part, as at small strain (per unit
   // reference volume: tau is the Kirchhoff stress).
   h1[kFiniteWork] = h0[kFiniteWork] + dg * tau.dot(n);
-  h1[kFiniteDissipation] = h0[kFiniteDissipation] + sy0_ * kSqrt23 * dg;
+  h1[kFiniteDissipation] = h0[kFiniteDissipation] + dissipation(h1[kFiniteAlpha], r);
   h1[kFiniteYielding] = 1;
 }
 

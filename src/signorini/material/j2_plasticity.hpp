@@ -24,11 +24,20 @@ struct J2Hardening {
   Real kinematic = 0;   // linear kinematic modulus H_k: d(beta) = 2/3 H_k d(eps_p) (small strain only)
 };
 
+// Perzyna viscoplasticity: d(alpha)/dt = (1 / viscosity) <q / sigma_y(alpha) - 1>^rate_exponent
+// (q the von Mises stress, of s - beta with kinematic hardening); viscosity 0 is the
+// rate-independent model, and the response tends to it as the viscosity goes to 0.
+struct J2Viscosity {
+  Real viscosity = 0;      // eta, in time units (the steps' `time`)
+  Real rate_exponent = 1;  // m
+};
+
 class J2Plasticity final : public Material {
  public:
   // finite: the multiplicative finite-strain model (kinematics: finite_strain); throws an
   // Error for kinematic hardening there.
-  J2Plasticity(Real E, Real nu, Real yield_stress, J2Hardening hardening, bool finite = false);
+  J2Plasticity(Real E, Real nu, Real yield_stress, J2Hardening hardening, bool finite = false,
+               J2Viscosity viscosity = {});
   std::string model() const override { return "j2_plasticity"; }
   // Per point, small strain: plastic strain (6, Voigt with engineering shears), equivalent
   // plastic strain alpha, back stress (6, tensor components), plastic work, plastic
@@ -54,15 +63,23 @@ class J2Plasticity final : public Material {
   int yielding_slot() const { return finite_ ? int(kFiniteYielding) : int(kYielding); }
 
  private:
-  // The return map's plastic multiplier dg for a trial |dev stress - back stress| = norm
-  // above the yield surface at alpha, and the slope d(hardening)/d(dg) at the solution (the
-  // k' of the consistent tangent).
-  void radial_return(Real norm, Real alpha, Real& dg, Real& slope) const;
+  // The return map for a trial |dev stress - back stress| = norm at alpha over a time dt:
+  // whether it flows, the plastic multiplier dg, the slope d(k)/d(dg) of the hardening and
+  // viscous resistance k(dg) (the consistent tangent's k'), and the viscous overstress ratio
+  // y (|xi| = sqrt(2/3) sigma_y (1 + y); 0 when rate independent).
+  struct Return {
+    bool plastic = false;
+    Real dg = 0, slope = 0, overstress = 0;
+  };
+  Return radial_return(Real norm, Real alpha, Real dt) const;
+  // The dissipation of a return ending at alpha_new: sigma_y0 d(alpha), plus the overstress's.
+  Real dissipation(Real alpha_new, const Return& r) const;
   void compute_small(const MaterialInput& in, Vec6& stress, Mat6& tangent) const;
   void compute_finite(const MaterialInput& in, Vec6& stress, Mat6& tangent) const;
 
   Real E_, nu_, sy0_, kappa_, mu_;
   J2Hardening h_;
+  J2Viscosity visc_;
   bool finite_;
   Mat6 D_;
 };

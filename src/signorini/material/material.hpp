@@ -14,6 +14,8 @@ struct MaterialInput {
   Mat3 F = Mat3::Identity();  // deformation gradient (finite strain)
   Vec6 strain = Vec6::Zero(); // small strain (Voigt, engineering shears) or Green-Lagrange E
   bool finite = false;        // finite strain: return PK2 S and dS/dE; else sigma and dsigma/deps
+  Real dt = 0;                // the increment's time (the step's `time` times its fraction); 0 when the
+                              // state is only evaluated (output): a rate-dependent material then does not flow
   const Real* history_old = nullptr;  // history_size() values of the last converged state
   Real* history_new = nullptr;        // trial values to write
 };

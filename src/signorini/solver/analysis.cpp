@@ -239,7 +239,8 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     fc.setZero();
     if (tangent) backend_->zero();
     for (size_t i = 0; i < model_.bodies.size(); ++i)
-      model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr, &history_[i]);
+      model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr, &history_[i],
+                                 dt_);
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);
     if (!contacts_.empty()) {
@@ -741,6 +742,7 @@ AnalysisSummary Analysis::run_steps() {
       rec.increment = inc + 1;
       log::Timer t;
       std::string why;
+      dt_ = dl * step.duration;
       const bool ok = solve_increment(lambda + dl, dl, rec, why);
       if (!ok) {
         ++cutbacks;

@@ -170,6 +170,7 @@ class Analysis {
   VecX u_, u_converged_, reactions_;
   VecX last_du_;          // displacement change of the last converged increment of this step
   Real last_dl_ = 0;      // its size (0: no predictor available)
+  Real dt_ = 0;           // the time of the increment being solved (its fraction times the step's time)
   std::vector<char> constrained_;
   std::vector<Prescribed> prescribed_;
   bool lift_pending_ = false;
