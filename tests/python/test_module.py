@@ -86,7 +86,8 @@ while worker.is_alive():
 worker.join()
 assert done["r"].completed, done["r"].failure
 # The main thread ticks about once a millisecond while the run goes on; holding the GIL, it
-# would tick once or twice in all.
-assert ticks >= max(3, 0.2 * done["seconds"] / 0.001), (ticks, done["seconds"])
+# would tick once or twice in all. On a loaded machine (the test suite on 2 cores) a sleep of
+# 1 ms lasts longer, so the bar is low: 10 ticks, or 2 % of the milliseconds the run took.
+assert ticks >= max(10, 0.02 * done["seconds"] / 0.001), (ticks, done["seconds"])
 
 print("python module: ok ({} increments, friction force {:.6f})".format(r.increments, fx))
