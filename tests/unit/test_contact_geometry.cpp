@@ -427,3 +427,32 @@ TEST(ContactDetection, NodeToEdgeAtAConvexRidge3D) {
   EXPECT_EQ(cs[0].kind, ConstraintKind::segment);
   EXPECT_NEAR(cs[0].gap, -0.05 / std::sqrt(2.0), 1e-12);
 }
+
+#include "signorini/mesh/structured.hpp"
+
+// Axisymmetric slave weights: the integral of N r over the facets. On the axis the node of a
+// quadratic (line3) facet gets exactly zero (it carries no contact force, and gets no
+// constraint), where quadrature leaves a round-off residue; a linear facet's axis node keeps
+// its positive h^2 / 6 (times 2 pi). The weights sum to the surface's area pi R^2.
+TEST(ContactSurface, AxisymmetricWeightsOnTheAxis) {
+  int cases = 0;
+  for (ElementType type : {ElementType::quad9, ElementType::quad4})
+    for (int n : {3, 7, 11, 19, 40})
+      for (Real lx : {0.9, 0.37, 8.0, 0.011}) {
+        Mesh mesh = structured_rectangle(type, n, 2, lx, 0.5);
+        AnalysisSettings s;
+        s.dimension = Dimension::axisymmetric;
+        const SlaveSurface slave = make_slave_surface(mesh, "ymax", s);
+        Real sum = 0, axis = -1;
+        for (size_t j = 0; j < slave.nodes.size(); ++j) {
+          sum += slave.weights[j];
+          if (mesh.nodes[slave.nodes[j]].x() == 0 && mesh.nodes[slave.nodes[j]].y() == 0.5) axis = slave.weights[j];
+        }
+        EXPECT_NEAR(sum, std::numbers::pi * lx * lx, 1e-12 * lx * lx);
+        const Real h = lx / n;
+        if (type == ElementType::quad9) EXPECT_EQ(axis, 0.0) << "n " << n << " lx " << lx;
+        else EXPECT_NEAR(axis, 2 * std::numbers::pi * h * h / 6, 1e-14 * h * h);
+        ++cases;
+      }
+  EXPECT_EQ(cases, 40);
+}
