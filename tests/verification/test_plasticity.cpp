@@ -32,6 +32,15 @@ using namespace signorini;
 
 namespace {
 
+// A curve for the docs' plots (examples/*/plot.py read them): build/curves/NAME.csv.
+std::ofstream curve_file(const std::string& name, const std::string& header) {
+  const std::filesystem::path dir = std::filesystem::path(SIGNORINI_BINARY_DIR) / "curves";
+  std::filesystem::create_directories(dir);
+  std::ofstream f(dir / (name + ".csv"));
+  f << header << "\n";
+  return f;
+}
+
 const Real kA = 0.1, kB = 0.2, kE = 210e9, kNu = 0.3, kSy = 240e6;
 const Real kK = kSy / std::sqrt(3.0);
 const Real kPlim = 2 / std::sqrt(3.0) * kSy * std::log(kB / kA);
@@ -137,7 +146,9 @@ void follows_hill(bool finite, Real up_to) {
   const CylinderRun r = run_cylinder(up_to * kPlim, h, "{initial: 0.05, max: 0.05}", finite);
   ASSERT_TRUE(r.summary.completed) << r.summary.failure;
   int plastic_points = 0;
+  std::ofstream csv = curve_file(finite ? "thick_cylinder_finite" : "thick_cylinder_small", "p,u_b,front");
   for (const Point& pt : r.curve) {
+    csv << fmt::format("{:.10g},{:.10g},{:.10g}\n", pt.p, pt.ub, pt.front);
     const Real ref = outer_displacement(pt.p);
     std::printf("p = %7.2f MPa (%.3f p_lim): u(b) = %.5f mm, Hill %.5f mm (%+.2f %%; Hill's p for it %+.2f %%); plastic "
                 "front %.1f mm, Hill %.1f mm\n",
@@ -259,7 +270,9 @@ TEST(Viscoplasticity, BarFollowsTheClosedFormAndRelaxes) {
   ASSERT_TRUE(summary.completed) << summary.failure;
   const Real tc = kBarEta * kBarSy / kBarE, ty = kBarSy / (kBarE * kBarRate), s_ss = kBarSy * (1 + kBarEta * kBarRate);
   Real worst = 0, at_end_of_pull = 0;
+  std::ofstream csv = curve_file("viscoplastic_bar", "t,stress");
   for (const BarPoint& p : curve) {
+    csv << fmt::format("{:.10g},{:.10g}\n", p.t, p.force);
     Real exact;
     if (p.t <= ty) exact = kBarE * kBarRate * p.t;
     else if (p.t <= 100 + 1e-9) exact = s_ss + (kBarSy - s_ss) * std::exp(-(p.t - ty) / tc);
