@@ -213,3 +213,24 @@ TEST(SurfaceLoad, PressureResultantIsPressureTimesArea) {
   EXPECT_NEAR(r(1), 0, 1e-12);
   EXPECT_NEAR(facet_set_area(mesh.facet_sets["xmax"], s, mesh.nodes), 1.0, 1e-12);
 }
+
+// A body force that depends on the position (the centrifugal load's rho omega^2 r), integrated
+// exactly by the element rule: axisymmetric ring [0.5, 1.5] x [0, 0.8] about the y axis gives the
+// radial resultant int rho omega^2 r 2 pi r dr dz = 2 pi rho omega^2 (1.5^3 - 0.5^3) / 3 * 0.8.
+TEST(BodyForce, PositionDependentForceIsIntegratedExactly) {
+  StructuredOptions o;
+  o.distortion = 0.15;
+  o.origin = Vec3(0.5, 0, 0);
+  Mesh mesh = structured_rectangle(ElementType::quad9, 3, 2, 1.0, 0.8, o);
+  AnalysisSettings s;
+  s.dimension = Dimension::axisymmetric;
+  Body body("b", mesh.regions["domain"], std::make_shared<LinearElastic>(100, 0.3), s);
+  DofMap dofs(mesh.num_nodes(), 2, test::cells_of(body));
+  VecX f = VecX::Zero(dofs.num_dofs());
+  const Real k = 3.0;  // rho omega^2
+  body.add_body_force(mesh.nodes, dofs, [&](const Vec3& x) { return Vec3(k * x(0), 0, 0); }, 1.0, f);
+  Real fx = 0, fy = 0;
+  for (Index n = 0; n < mesh.num_nodes(); ++n) fx += f(dofs.dof(n, 0)), fy += f(dofs.dof(n, 1));
+  EXPECT_NEAR(fx, 2 * std::numbers::pi * k * (1.5 * 1.5 * 1.5 - 0.125) / 3 * 0.8, 1e-11);
+  EXPECT_NEAR(fy, 0, 1e-12);
+}

@@ -459,6 +459,25 @@ TEST(Deck, J2PlasticityHardeningErrors) {
   EXPECT_MESSAGE(m, "step_time.yaml:", "steps[0].time", "> 0");
 }
 
+// The centrifugal load: a body, the axis by dimension, keys checked.
+TEST(Deck, CentrifugalLoadErrors) {
+  const std::string spin = "    loads:\n      - {body: plate, centrifugal: {density: 7800, omega: 100}}\n";
+  const std::string good = replace(kGood, "    loads:\n", spin + "      # other loads\n");
+  ASSERT_NE(good, kGood);
+  Registry r = default_registry();
+  EXPECT_NO_THROW(read_deck(write_deck("cf_good", good), r));
+  auto m = error_of("cf_axis2d", replace(good, "omega: 100}", "omega: 100, axis: [0, 0, 1]}"));
+  EXPECT_MESSAGE(m, "cf_axis2d.yaml:", "centrifugal.axis", "out of the plane");
+  m = error_of("cf_density", replace(good, "density: 7800", "density: 0"));
+  EXPECT_MESSAGE(m, "cf_density.yaml:", "centrifugal.density", "> 0");
+  m = error_of("cf_key", replace(good, "omega: 100}", "omega: 100, speed: 3}"));
+  EXPECT_MESSAGE(m, "cf_key.yaml:", "speed");
+  m = error_of("cf_body", replace(good, "{body: plate, centrifugal", "{body: rotor, centrifugal"));
+  EXPECT_MESSAGE(m, "cf_body.yaml:", "body", "no body named 'rotor'");
+  m = error_of("cf_two", replace(good, "omega: 100}}", "omega: 100}, body_force: [0, 1]}"));
+  EXPECT_MESSAGE(m, "cf_two.yaml:", "exactly one of");
+}
+
 // solver.linear: a bare name, or {type, rtol, options}; every key checked, with the place.
 TEST(Deck, LinearSolverSettings) {
   Registry r = default_registry();

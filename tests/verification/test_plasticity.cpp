@@ -303,3 +303,51 @@ TEST(Viscoplasticity, BarTendsToTheRateIndependentModelAsTheViscosityVanishes) {
   EXPECT_NEAR(curve.back().force, kBarSy * (1 + 5e-3 * kBarRate), 1e-9 * kBarSy);
   EXPECT_NEAR(curve.back().force, kBarSy, 1e-6 * kBarSy);
 }
+
+// ---- Centrifugal load (a rotating annular disk, plane stress) ----
+//
+// Timoshenko & Goodier, Theory of Elasticity, 3rd ed., 1970, sec. 32: a disk a <= r <= b
+// spinning at omega, free at both radii, plane stress:
+//   sigma_r = (3 + nu)/8 rho omega^2 (b^2 + a^2 - a^2 b^2 / r^2 - r^2),
+//   sigma_t = (3 + nu)/8 rho omega^2 (b^2 + a^2 + a^2 b^2 / r^2 - (1 + 3 nu)/(3 + nu) r^2),
+//   u = r (sigma_t - nu sigma_r) / E.
+// The quarter annulus of the Lame example (a = 0.1 m, b = 0.2 m, quad9 h = 5 mm), steel
+// (E = 210 GPa, nu = 0.3, rho = 7800 kg/m^3) at omega = 1000 rad/s; u(a) and u(b) within 0.1 %.
+TEST(Centrifugal, RotatingDiskMatchesTheClosedForm) {
+  namespace fs = std::filesystem;
+  log::set_level(log::Level::warning);
+  const Real a = 0.1, b = 0.2, E = 210e9, nu = 0.3, rho = 7800, omega = 1000;
+  const std::string geo =
+      (fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "lame_cylinder" / "lame_cylinder.geo").string();
+  const std::string text =
+      "title: rotating disk\n"
+      "analysis: {dimension: plane_stress, thickness: 0.01}\n"
+      "mesh: {file: " + geo + ", parameters: {h: 0.005}}\n"
+      "materials:\n  steel: {model: linear_elastic, E: 210e9, nu: 0.3}\n"
+      "bodies:\n  - {name: disk, region: Cylinder, material: steel}\n"
+      "steps:\n  - name: spin\n    boundary:\n      - {set: SymX, uy: 0}\n      - {set: SymY, ux: 0}\n"
+      "    loads:\n      - {body: disk, centrifugal: {density: 7800, omega: 1000}}\n"
+      "output: {vtu: none}\n";
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_rotating_disk_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(tmp) << text;
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  fs::remove(tmp);
+  Analysis an(m);
+  const AnalysisSummary s = an.run();
+  ASSERT_TRUE(s.completed) << s.failure;
+  const Real k = (3 + nu) / 8 * rho * omega * omega;
+  auto u = [&](Real rr) {
+    const Real sr = k * (b * b + a * a - a * a * b * b / (rr * rr) - rr * rr);
+    const Real st = k * (b * b + a * a + a * a * b * b / (rr * rr) - (1 + 3 * nu) / (3 + nu) * rr * rr);
+    return rr * (st - nu * sr) / E;
+  };
+  for (Real rr : {a, b}) {
+    Index best = 0;
+    for (Index n = 0; n < m.mesh.num_nodes(); ++n)
+      if ((m.mesh.nodes[n] - Vec3(rr, 0, 0)).norm() < (m.mesh.nodes[best] - Vec3(rr, 0, 0)).norm()) best = n;
+    const Real computed = an.displacement()(an.dofs().dof(best, 0));
+    std::printf("u(%.1f) = %.6e m, closed form %.6e (%+.3f %%)\n", rr, computed, u(rr), 100 * (computed / u(rr) - 1));
+    EXPECT_NEAR(computed, u(rr), 1e-3 * u(rr));
+  }
+}

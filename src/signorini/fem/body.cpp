@@ -254,6 +254,11 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
 
 void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& bf, Real scale,
                           VecX& fext) const {
+  add_body_force(X, dofs, [&](const Vec3&) { return bf; }, scale, fext);
+}
+
+void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const std::function<Vec3(const Vec3&)>& bfun,
+                          Real scale, VecX& fext) const {
   const int dim = dofs.dofs_per_node();
   const bool axi = settings_.dimension == Dimension::axisymmetric;
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
@@ -265,15 +270,17 @@ void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const 
       for (size_t q = 0; q < c.rule.size(); ++q) {
         Mat3 J = Mat3::Identity();
         J.topLeftCorner(dim, dim).setZero();
-        Real R = 0;
+        Vec3 xq = Vec3::Zero();
         for (int a = 0; a < nn; ++a) {
-          R += c.N[q](a) * X[cn[a]](0);
+          xq += c.N[q](a) * X[cn[a]];
           for (int i = 0; i < dim; ++i)
             for (int d = 0; d < dim; ++d) J(i, d) += X[cn[a]](i) * c.dN[q](a, d);
         }
+        const Real R = xq(0);
         Real dV = J.determinant() * c.rule[q].weight;
         if (axi) dV *= 2 * std::numbers::pi * R;
         else if (dim == 2) dV *= settings_.thickness;
+        const Vec3 bf = bfun(xq);
         for (int a = 0; a < nn; ++a)
           for (int i = 0; i < dim; ++i) fext(dofs.dof(cn[a], i)) += scale * c.N[q](a) * bf(i) * dV;
       }

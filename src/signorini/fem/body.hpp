@@ -4,6 +4,7 @@
 // body has no material: its nodes share the DOFs of its reference node (see DofMap) and it
 // adds no internal forces.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,9 +48,12 @@ class Body {
   // on a non-physical state. dt: the increment's time (rate-dependent materials).
   void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
                 QuadratureHistory* history = nullptr, Real dt = 0) const;
-  // Adds the consistent nodal forces of a dead body force b (per unit reference volume).
+  // Adds the consistent nodal forces of a dead body force b (per unit reference volume),
+  // uniform or a function of the reference position.
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,
                       VecX& fext) const;
+  void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const std::function<Vec3(const Vec3&)>& b,
+                      Real scale, VecX& fext) const;
   // Per-cell averages of stress and strain at the state `u` (from the committed history).
   CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
                       const QuadratureHistory* history = nullptr) const;

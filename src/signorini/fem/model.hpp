@@ -25,7 +25,15 @@ struct DirichletCondition {
   std::string where;  // deck location
 };
 
-enum class LoadKind { nodal_force, traction, pressure, body_force, obstacle_force };
+enum class LoadKind { nodal_force, traction, pressure, body_force, centrifugal, obstacle_force };
+
+// A centrifugal body force rho omega^2 (X - o - ((X - o) . a) a) per unit reference volume
+// (a dead load on the reference configuration: small rotations of the body).
+struct Centrifugal {
+  Real density = 0, omega = 0;
+  Vec3 axis = Vec3::UnitZ();  // unit; 2D: z (out of plane); axisymmetric: the y axis
+  Vec3 origin = Vec3::Zero();
+};
 
 // A load, ramped over its step from the value it had at the end of the previous step
 // (loads not listed in a step are removed, ramped to zero).
@@ -34,6 +42,7 @@ struct Load {
   std::string set;        // node set, facet set, body name (body force) or contact pair (obstacle force)
   Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
   Real pressure = 0;
+  Centrifugal centrifugal;
   std::string where;
 };
 

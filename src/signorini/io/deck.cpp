@@ -449,21 +449,48 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       Load load;
       load.where = l.where();
       int kinds = 0;
-      for (auto k : {"force", "traction", "pressure", "body_force"}) kinds += l.has(k);
-      if (kinds != 1) l.fail("a load has exactly one of force, traction, pressure, body_force");
+      for (auto k : {"force", "traction", "pressure", "body_force", "centrifugal"}) kinds += l.has(k);
+      if (kinds != 1) l.fail("a load has exactly one of force, traction, pressure, body_force, centrifugal");
       if (l.has("contact")) {
         if (!l.has("force") || l.has("set") || l.has("body")) l.fail("a rigid obstacle is loaded by 'force: [...]' alone");
         load.kind = LoadKind::obstacle_force;
         load.set = rigid_pair_named(l.child("contact"), m);
         load.vector = l.child("force").vector(dim);
-      } else if (l.has("body_force")) {
-        if (!l.has("body")) l.fail("body_force needs 'body: <body name>'");
-        load.kind = LoadKind::body_force;
+      } else if (l.has("body_force") || l.has("centrifugal")) {
+        const char* key = l.has("body_force") ? "body_force" : "centrifugal";
+        if (!l.has("body")) l.fail(std::string(key) + " needs 'body: <body name>'");
+        if (l.has("set")) l.child("set").fail(std::string("a ") + key + " load takes 'body', not 'set'");
         load.set = l.child("body").as_string();
         bool found = false;
         for (auto& b : m.bodies) found = found || b->name() == load.set;
         if (!found) l.child("body").fail("no body named '" + load.set + "'");
-        load.vector = l.child("body_force").vector(dim);
+        if (l.has("body_force")) {
+          load.kind = LoadKind::body_force;
+          load.vector = l.child("body_force").vector(dim);
+        } else {
+          load.kind = LoadKind::centrifugal;
+          const Node c = l.child("centrifugal");
+          const TypeSpec& cs = deck_spec(r, "centrifugal");
+          c.check_keys(cs);
+          Centrifugal& cf = load.centrifugal;
+          cf.density = c.number(cs, "density");
+          cf.omega = c.number(cs, "omega");
+          const bool axi = m.settings.dimension == Dimension::axisymmetric;
+          if (axi) {
+            for (const char* k : {"axis", "origin"})
+              if (c.has(k)) c.child(k).fail(std::string("in axisymmetry the axis is the symmetry axis (no '") + k + "')");
+            cf.axis = Vec3::UnitY();
+          } else if (dim == 2) {
+            if (c.has("axis")) c.child("axis").fail("in 2D the axis is out of the plane (no 'axis'; 'origin' places it)");
+            cf.axis = Vec3::UnitZ();
+          } else {
+            if (!c.has("axis")) c.fail("a centrifugal load in 3D needs 'axis: [ax, ay, az]'");
+            const Vec3 a = c.child("axis").vector(3);
+            if (!(a.norm() > 0)) c.child("axis").fail("the axis has zero length");
+            cf.axis = a.normalized();
+          }
+          if (c.has("origin")) cf.origin = c.child("origin").vector(dim);
+        }
       } else {
         if (!l.has("set")) l.fail("this load needs 'set'");
         load.set = l.child("set").as_string();

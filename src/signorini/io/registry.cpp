@@ -272,13 +272,26 @@ void register_deck_sections(Registry& r) {
   r.add({"deck", "load", "A load, ramped from its value at the end of the previous step: exactly one of force "
                          "(total force on a node set, shared equally by its nodes), traction (per unit reference area "
                          "of a facet set), pressure (on a facet set, positive in compression, follower in finite "
-                         "strain) or body_force (per unit reference volume of a body).",
+                         "strain), body_force (per unit reference volume of a body) or centrifugal (of a body spinning "
+                         "about an axis; see 'describe centrifugal'). The centrifugal load ramps omega^2.",
          {opt(text("set", "node set or facet set", std::nullopt)), opt(text("body", "body name (body_force)", std::nullopt)),
           opt(text("contact", "instead of set: a contact pair whose rigid obstacle the force pushes", std::nullopt)),
           opt(text("force", "total force vector", std::nullopt, ParamKind::vector)),
           opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
           opt(number("pressure", "pressure", std::nullopt)),
-          opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector))}});
+          opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector)),
+          opt(text("centrifugal", "{density, omega, axis, origin} (see 'describe centrifugal')", std::nullopt,
+                   ParamKind::any))}});
+  r.add({"deck", "centrifugal",
+         "Centrifugal load of a body (key 'body') spinning at omega about an axis: rho omega^2 times the distance "
+         "vector from the axis, per unit reference volume (a dead load on the reference configuration).",
+         {number("density", "mass density rho (mass per unit volume, in the deck's units: force = mass x "
+                            "length / time^2)", std::nullopt, 0, INFINITY, true),
+          number("omega", "angular velocity (radians per unit time)", std::nullopt, 0, INFINITY),
+          opt(text("axis", "3D: the axis direction [ax, ay, az] (required); 2D: the out-of-plane axis; axisymmetric: "
+                           "the symmetry axis (neither may be given)", std::nullopt, ParamKind::vector)),
+          opt(text("origin", "a point on the axis ([x, y] in 2D, [x, y, z] in 3D; default the origin; not in "
+                             "axisymmetry)", std::nullopt, ParamKind::vector))}});
   r.add({"deck", "contact", "A contact pair between two facet sets (one list entry each).",
          {text("name", "pair name, used in messages and output", "contact<N>"),
           opt(text("master", "master facet set, auto (then give 'surfaces'), or a rigid obstacle {rigid: ...} (see "

@@ -219,6 +219,17 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
         for (auto& b : model_.bodies)
           if (b->name() == l.set) b->add_body_force(X, dofs_, l.vector, scale, fext);
         break;
+      case LoadKind::centrifugal: {
+        const Centrifugal& cf = l.centrifugal;
+        const Real k = cf.density * cf.omega * cf.omega;
+        const auto b = [&](const Vec3& x) {
+          const Vec3 d = x - cf.origin;
+          return Vec3(k * (d - d.dot(cf.axis) * cf.axis));
+        };
+        for (auto& body : model_.bodies)
+          if (body->name() == l.set) body->add_body_force(X, dofs_, b, scale, fext);
+        break;
+      }
       case LoadKind::obstacle_force:
         for (auto& c : contacts_)
           if (c->settings().name == l.set && c->rigid())
