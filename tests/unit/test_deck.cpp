@@ -363,7 +363,7 @@ TEST(Deck, ContactSectionErrors) {
   m = error_of("c_sphere", replace(kContact, "master: Top", "master: {rigid: sphere, center: [0, 2], radius: 1}"));
   EXPECT_MESSAGE(m, "c_sphere.yaml:17", "contact[0].master.rigid", "axisymmetric or 3D");
   m = error_of("c_auto", replace(kContact, "master: Top", "master: auto"));
-  EXPECT_MESSAGE(m, "c_auto.yaml:16", "surfaces: [A, B]");
+  EXPECT_MESSAGE(m, "c_auto.yaml:16", "surfaces: [A, B, ...]");
   m = error_of("c_motion", replace(kContact, "      - {set: Bottom, uy: 0}", "      - {contact: c1, u: [0, 1]}"));
   EXPECT_MESSAGE(m, "c_motion.yaml:12", "steps[0].boundary[1].contact", "no contact pair with a rigid obstacle named 'c1'");
   m = error_of("c_check", kContact + "checks:\n  - {name: p, quantity: contact_pressure_max, pair: c2, expected: 1}\n");
@@ -457,6 +457,19 @@ TEST(Deck, J2PlasticityHardeningErrors) {
   EXPECT_NO_THROW(read_deck(write_deck("j2_visco", replace(good, "yield_stress: 240e6", "yield_stress: 240e6, viscosity: 10, rate_exponent: 2")), r));
   m = error_of("step_time", replace(good, "  - name: pull\n", "  - name: pull\n    time: 0\n"));
   EXPECT_MESSAGE(m, "step_time.yaml:", "steps[0].time", "> 0");
+}
+
+// Multi-body contact (master: auto with several surfaces, contact: {auto: ...}): errors.
+TEST(Deck, MultiBodyContactErrors) {
+  auto m = error_of("mb_twice", kGood + "contact:\n  auto: {surfaces: [Top, Bottom, Top]}\n");
+  EXPECT_MESSAGE(m, "mb_twice.yaml:", "contact.auto.surfaces[2]", "listed twice");
+  m = error_of("mb_master", kGood + "contact:\n  auto: {master: Top, surfaces: [Top, Bottom]}\n");
+  EXPECT_MESSAGE(m, "mb_master.yaml:", "contact.auto.master", "no 'master'");
+  m = error_of("mb_map", kGood + "contact:\n  stack: {surfaces: [Top, Bottom]}\n");
+  EXPECT_MESSAGE(m, "mb_map.yaml:", "'contact'", "{auto: {surfaces");
+  // Three surfaces of the one body: no pair (self-contact is not available).
+  m = error_of("mb_self", kGood + "contact:\n  auto: {surfaces: [Top, Bottom, Left]}\n");
+  EXPECT_MESSAGE(m, "mb_self.yaml:", "contact.auto.surfaces", "different bodies");
 }
 
 // The centrifugal load: a body, the axis by dimension, keys checked.

@@ -551,13 +551,54 @@ Real auto_or_positive(const Node& n) {
   return v;
 }
 
-void read_contacts(const Node& list, const Registry& r, Model& m) {
-  list.expect_list();
+// The reference bounding box of a facet set.
+std::pair<Vec3, Vec3> facet_set_box(const Mesh& mesh, const std::string& set) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const ElementBlock& b : mesh.facet_sets.at(set))
+    for (Index n : b.conn) lo = lo.cwiseMin(mesh.nodes[n]), hi = hi.cwiseMax(mesh.nodes[n]);
+  return {lo, hi};
+}
+
+// Multi-body contact (master: auto with more than two surfaces, or contact: {auto: {...}}):
+// the pairs of surfaces of different bodies whose reference bounding boxes come within
+// `reach` of each other (the pair's search.max_distance, or else twice the larger of the two
+// median facet sizes), in the order given.
+std::vector<std::pair<std::string, std::string>> automatic_pairs(const Model& m, const std::vector<std::string>& sets,
+                                                                 Real max_distance) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (size_t i = 0; i < sets.size(); ++i)
+    for (size_t j = i + 1; j < sets.size(); ++j) {
+      const SurfaceInfo a = surface_info(m, sets[i]), b = surface_info(m, sets[j]);
+      if (!a.body.empty() && a.body == b.body) continue;  // self-contact is not available
+      const Real reach = max_distance > 0 ? max_distance : 2 * std::max(a.median_edge, b.median_edge);
+      const auto [alo, ahi] = facet_set_box(m.mesh, sets[i]);
+      const auto [blo, bhi] = facet_set_box(m.mesh, sets[j]);
+      const Vec3 gap = (blo - ahi).cwiseMax(alo - bhi).cwiseMax(Vec3::Zero());
+      if (gap.norm() <= reach) out.emplace_back(sets[i], sets[j]);
+    }
+  return out;
+}
+
+void choose_slave(const Model& m, const std::string& a, const std::string& b, ContactPairSettings& cs);
+void check_and_add_pair(const Node& c, ContactPairSettings cs, Model& m);
+
+void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
   const TypeSpec& spec = deck_spec(r, "contact");
   const TypeSpec& es = deck_spec(r, "enforcement");
   const TypeSpec& ss = deck_spec(r, "search");
-  for (size_t i = 0; i < list.node.size(); ++i) {
-    Node c = list.at(i);
+  // contact: {auto: {surfaces: [...], ...}}: one multi-body entry, master: auto implied.
+  const bool auto_map = list_or_auto.node.IsMap();
+  if (auto_map) {
+    if (!list_or_auto.has("auto") || list_or_auto.node.size() != 1)
+      list_or_auto.fail("expected a list of contact pairs, or {auto: {surfaces: [...], ...}}");
+    if (list_or_auto.child("auto").has("master"))
+      list_or_auto.child("auto").child("master").fail("contact: {auto: ...} chooses masters itself (no 'master')");
+  } else {
+    list_or_auto.expect_list();
+  }
+  const size_t entries = auto_map ? 1 : list_or_auto.node.size();
+  for (size_t i = 0; i < entries; ++i) {
+    Node c = auto_map ? list_or_auto.child("auto") : list_or_auto.at(i);
     c.check_keys(spec);
     ContactPairSettings cs;
     cs.where = c.where();
@@ -566,7 +607,8 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (other.name == cs.name) c.child("name").fail("two contact pairs are named '" + cs.name + "'");
     auto facet_set = [&](const Node& n) { return facet_set_named(n, m.mesh); };
     const bool rigid = c.has("master") && c.child("master").node.IsMap();
-    const bool automatic = !rigid && c.has("master") && c.child("master").as_string() == "auto";
+    const bool automatic = auto_map || (!rigid && c.has("master") && c.child("master").as_string() == "auto");
+    std::vector<std::string> auto_sets;  // more than two surfaces: multi-body
     if (rigid) {
       Node rm = c.child("master");
       const TypeSpec& rs = deck_spec(r, "rigid");
@@ -599,19 +641,23 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (c.has("discretization")) c.child("discretization").fail("a rigid obstacle is node-to-surface by nature");
     } else if (automatic) {
       if (!c.has("surfaces") || c.has("slave"))
-        c.fail("with master: auto, name the two surfaces with 'surfaces: [A, B]' (and no 'slave')");
+        c.fail("with master: auto, name the surfaces with 'surfaces: [A, B, ...]' (and no 'slave')");
       Node sf = c.child("surfaces");
       sf.expect_list();
-      if (sf.node.size() != 2) sf.fail("expected two facet sets");
+      if (sf.node.size() < 2) sf.fail("expected two facet sets or more");
+      for (size_t k = 0; k < sf.node.size(); ++k) {
+        auto_sets.push_back(facet_set(sf.at(k)));
+        for (size_t l = 0; l < k; ++l)
+          if (auto_sets[l] == auto_sets[k]) sf.at(k).fail("facet set '" + auto_sets[k] + "' is listed twice");
+      }
+      if (auto_sets.size() == 2) auto_sets.clear();
+    }
+    if (automatic && auto_sets.empty()) {
+      Node sf = c.child("surfaces");
       const std::string a = facet_set(sf.at(0)), b = facet_set(sf.at(1));
-      const SurfaceInfo ia = surface_info(m, a), ib = surface_info(m, b);
-      // The finer surface is slave; at about equal density the stiffer body is master.
-      bool a_slave = ia.median_edge < 0.83 * ib.median_edge ||
-                     (ia.median_edge <= 1.2 * ib.median_edge && ib.median_edge <= 1.2 * ia.median_edge && ia.stiffness <= ib.stiffness);
-      cs.slave = a_slave ? a : b;
-      cs.master = a_slave ? b : a;
+      choose_slave(m, a, b, cs);
       log::info("contact '{}': master: auto chose slave '{}' and master '{}'", cs.name, cs.slave, cs.master);
-    } else {
+    } else if (!automatic && !rigid) {
       if (!c.has("master") || !c.has("slave")) c.fail("a contact pair needs 'master' and 'slave' facet sets");
       if (c.has("surfaces")) c.child("surfaces").fail("'surfaces' goes with master: auto");
       cs.master = facet_set(c.child("master"));
@@ -665,6 +711,43 @@ void read_contacts(const Node& list, const Registry& r, Model& m) {
       if (s.has("max_distance")) cs.max_distance = auto_or_positive(s.child("max_distance"));
       cs.update = s.text(ss, "update");
     }
+    if (!auto_sets.empty()) {
+      // Multi-body: one pair per two surfaces within reach, named <name>_<A>_<B>.
+      const auto pairs = automatic_pairs(m, auto_sets, cs.max_distance);
+      if (pairs.empty())
+        c.child("surfaces").fail("no two of these surfaces (of different bodies) come within reach of each other "
+                                 "(set search.max_distance to widen it)");
+      std::string made;
+      for (const auto& [a, b] : pairs) {
+        ContactPairSettings p = cs;
+        p.name = cs.name + "_" + a + "_" + b;
+        for (auto& other : m.contacts)
+          if (other.name == p.name) c.fail("two contact pairs are named '" + p.name + "'");
+        choose_slave(m, a, b, p);
+        check_and_add_pair(c, p, m);
+        made += (made.empty() ? "" : ", ") + p.name + " (slave " + p.slave + ")";
+      }
+      log::info("contact '{}': {} pairs: {}", cs.name, pairs.size(), made);
+      continue;
+    }
+    check_and_add_pair(c, cs, m);
+  }
+}
+
+// The finer surface is slave; at about equal density the stiffer body is master.
+void choose_slave(const Model& m, const std::string& a, const std::string& b, ContactPairSettings& cs) {
+  const SurfaceInfo ia = surface_info(m, a), ib = surface_info(m, b);
+  const bool a_slave = ia.median_edge < 0.83 * ib.median_edge ||
+                       (ia.median_edge <= 1.2 * ib.median_edge && ib.median_edge <= 1.2 * ia.median_edge &&
+                        ia.stiffness <= ib.stiffness);
+  cs.slave = a_slave ? a : b;
+  cs.master = a_slave ? b : a;
+}
+
+// A pair's last checks (the compatibility table, the slave surface's weights), then it joins
+// the model.
+void check_and_add_pair(const Node& c, ContactPairSettings cs, Model& m) {
+  {
     // The combination against the compatibility table (each facet type of either surface).
     if (const CompatibilityIssue issue = first_unsupported(cs, m.mesh, m.settings.dimension); !issue.message.empty()) {
       // The deepest node of the rule's key (e.g. master.rigid) the deck has (Nodes are copied,

@@ -297,7 +297,9 @@ void register_deck_sections(Registry& r) {
           opt(text("master", "master facet set, auto (then give 'surfaces'), or a rigid obstacle {rigid: ...} (see "
                              "'describe rigid')", std::nullopt, ParamKind::any)),
           opt(text("slave", "slave facet set", std::nullopt)),
-          opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave", std::nullopt, ParamKind::vector)),
+          opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave; [A, B, C, ...]: a pair for every "
+                               "two surfaces of different bodies within reach of each other (multi-body contact)",
+                   std::nullopt, ParamKind::vector)),
           choice("discretization",
                  "node_to_segment (with node-to-edge and node-to-vertex), node_to_node (matching meshes), or mortar "
                  "(segment-based dual mortar: weighted gaps per slave node; 2D, frictionless so far), or segment_to_segment "
