@@ -129,12 +129,20 @@ TEST_P(BodyTangentPlastic, MatchesCentralDifferences) {
   hist.commit();
   const VecX u = u1 + random_displacement(dofs.num_dofs(), 0.02, 11);
   EXPECT_LT(tangent_error(body, mesh, dofs, u, &hist), 1e-6) << describe(c);
-  // The state is plastic: some point yielded in the first step.
+  // The state checked is plastic: points yielded in the first step, and some yield at u (the
+  // trial state of an assembly at u).
   const J2Plasticity& m = static_cast<const J2Plasticity&>(body.material());
-  bool yielded = false;
+  bool yielded = false, yielding = false;
   for (size_t i = m.alpha_slot(); i < hist.committed_values().size(); i += m.history_size())
     yielded = yielded || hist.committed_values()[i] > 0;
+  f.setZero();
+  body.assemble(mesh.nodes, u, dofs, f, nullptr, &hist);
+  for (size_t bi = 0; bi < body.blocks().size(); ++bi)
+    for (Index e = 0; e < body.blocks()[bi].size(); ++e)
+      for (Index q = 0; q < body.points_per_element(bi); ++q)
+        yielding = yielding || hist.trial(bi, e)[q * m.history_size() + m.yielding_slot()] > 0;
   EXPECT_TRUE(yielded) << describe(c);
+  EXPECT_TRUE(yielding) << describe(c);
 }
 
 INSTANTIATE_TEST_SUITE_P(

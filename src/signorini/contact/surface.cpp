@@ -231,7 +231,7 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
                                 bool modified_basis) {
   const int dim = settings.spatial_dim();
   std::vector<Real> w(mesh.num_nodes(), 0.0), area(mesh.num_nodes(), 0.0);
-  std::vector<char> used(mesh.num_nodes(), 0), axis_quadratic(mesh.num_nodes(), 0);
+  std::vector<char> used(mesh.num_nodes(), 0), on_axis(mesh.num_nodes(), 0), axis_quadratic(mesh.num_nodes(), 0);
   for (const ElementBlock& b : mesh.facet_sets.at(set)) {
     const ElementInfo& info = element_info(b.type);
     const QuadratureRule rule = quadrature_rule(b.type, 2 * info.order + 1);
@@ -259,9 +259,11 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
         // The axis node of a quadratic facet in axisymmetry: int N r dA is zero on a straight
         // facet and O(h/R) of the facet's area on a curved one, a pressure lambda / w without
         // meaning; it gets weight 0 (no constraint, no force), like the straight case.
-        if (settings.dimension == Dimension::axisymmetric && info.order >= 2 &&
-            std::abs(mesh.nodes[c[i]](0)) <= 1e-12 * (mesh.nodes[c[0]] - mesh.nodes[c[1]]).norm())
-          axis_quadratic[c[i]] = 1;
+        if (settings.dimension == Dimension::axisymmetric &&
+            std::abs(mesh.nodes[c[i]](0)) <= 1e-12 * (mesh.nodes[c[0]] - mesh.nodes[c[1]]).norm()) {
+          on_axis[c[i]] = 1;
+          if (info.order >= 2) axis_quadratic[c[i]] = 1;
+        }
       }
     }
   }
@@ -270,7 +272,7 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
     if (used[n]) {
       // A weight that is zero but for round-off is zero: such a node carries no contact force.
       if (std::abs(w[n]) <= 1e-12 * area[n] || axis_quadratic[n]) w[n] = 0;
-      if (!(w[n] > 0) && !(settings.dimension == Dimension::axisymmetric && std::abs(mesh.nodes[n](0)) < 1e-12))
+      if (!(w[n] > 0) && !on_axis[n])
         throw Error("slave surface '" + set + "': node " + std::to_string(mesh.node_ids[n]) +
                     " gets a non-positive contact area from its facets (tri6 and quad8 corner nodes do): "
                     "node-to-segment needs linear facets (line2, tri3, quad4) or line3/quad9 on the slave side "

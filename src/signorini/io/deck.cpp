@@ -650,7 +650,9 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
         for (size_t l = 0; l < k; ++l)
           if (auto_sets[l] == auto_sets[k]) sf.at(k).fail("facet set '" + auto_sets[k] + "' is listed twice");
       }
-      if (auto_sets.size() == 2) auto_sets.clear();
+      // Two surfaces in a list entry: the single pair of master: auto (named by the entry). The
+      // map form always follows the multi-body rules (pair names, reach, different bodies).
+      if (auto_sets.size() == 2 && !auto_map) auto_sets.clear();
     }
     if (automatic && auto_sets.empty()) {
       Node sf = c.child("surfaces");

@@ -378,7 +378,9 @@ void register_deck_sections(Registry& r) {
           number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),
           number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),
           number("energy_tolerance", "|du.R| relative to the first iteration's", "1e-16", 0, 1),
-          text("line_search", "backtracking line search on the residual norm", "true", ParamKind::boolean),
+          text("line_search", "backtracking line search on the residual norm (with contact multipliers: only steps that "
+                              "keep every contact status, and only for bodies with material history)",
+               "true", ParamKind::boolean),
           text("condense_contact",
                "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
                "one DOF of its slave node), so that Cholesky or CG applies",

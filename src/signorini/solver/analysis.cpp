@@ -540,15 +540,15 @@ std::vector<char> Analysis::contact_statuses() const {
 }
 
 Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm,
-                           VecX& Rtrial, Real& new_scale, Real& new_norm, bool within_active_set) {
+                           VecX& Rtrial, Real& new_scale, Real& new_norm, const std::vector<char>* statuses) {
   // Backtracking on the residual norm (full steps when the line search is off). With
-  // `within_active_set` (contact multipliers, whose semi-smooth Newton method takes full
-  // steps), only while the full step keeps every contact status: the residual is then a
-  // smooth function along the step (the material's nonlinearity, e.g. plastic flow, is what
+  // `statuses` (contact multipliers, whose semi-smooth Newton method takes full steps: the
+  // statuses at u0), only while the full step keeps every contact status: the residual is then
+  // a smooth function along the step (the material's nonlinearity, e.g. plastic flow, is what
   // the backtracking guards against), and a step that changes the active set is the method's
-  // own update, taken whole.
+  // own update, taken whole. A full step that cannot be evaluated (an inverted element) is
+  // shortened.
   Real alpha = 1;
-  const std::vector<char> before = within_active_set ? contact_statuses() : std::vector<char>();
   bool search = ns.line_search;
   for (int ls = 0;; ++ls) {
     u_ = u0 + alpha * du;
@@ -560,7 +560,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
     } catch (const SolverError&) {
       ok = false;  // e.g. an element turned inside out: shorten the step
     }
-    if (within_active_set && ls == 0) search = ok && contact_statuses() == before;
+    if (statuses && ls == 0) search = !ok || contact_statuses() == *statuses;
     if (ok && (!search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
     if (!search || ls >= 6) {
       if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
@@ -672,13 +672,15 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       solve_newton_step(it, ns, R, du, rec);
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
+      const std::vector<char> statuses = within_active_set ? contact_statuses() : std::vector<char>();
       std::map<Index, std::string> view_before;
       if (check_tangent_) {
         view_before = contact_view();
         check_tangent(lambda, u0, du, du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff());
       }
       Real new_scale = 0, new_norm = 0;
-      const Real alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm, within_active_set);
+      const Real alpha =
+          line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm, within_active_set ? &statuses : nullptr);
       if (check_tangent_) {
         const auto view_after = contact_view();
         for (auto& [node, text] : view_after)

@@ -144,7 +144,7 @@ class Analysis {
   void solve_newton_step(int it, const NewtonSettings& ns, const VecX& R, VecX& du, IncrementRecord& rec);
   // u = u0 + alpha du with backtracking on |R|; returns alpha (Rtrial: the residual there).
   Real line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm, VecX& Rtrial,
-                   Real& new_scale, Real& new_norm, bool within_active_set = false);
+                   Real& new_scale, Real& new_norm, const std::vector<char>* statuses = nullptr);
   // Every contact pair's statuses (closed, and stick/slip), concatenated.
   std::vector<char> contact_statuses() const;
   // Once the residual has converged: the chattering guard's checks and release, the
