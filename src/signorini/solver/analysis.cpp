@@ -632,7 +632,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   NewtonSettings ns = model_.newton;
   // The residual norm is no merit function for the semi-smooth Newton method of contact
   // multipliers: a line search on it stalls the active-set updates, so steps that change the
-  // active set are full; the others are searched (line_search's within_active_set).
+  // active set are full; the others are searched (line_search's `statuses`).
   // Only for bodies whose material has history (plasticity): there the material's own kinks
   // (loading/unloading) make full steps overshoot; with elastic bodies full steps are the
   // method's (a search there slowed frictional cases from 8 to 11 iterations per increment).
