@@ -20,12 +20,13 @@ struct State {
   std::vector<Real> history;
 };
 
-// The material's response to a strain (small, or Green-Lagrange with `finite`).
-State eval(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, bool finite = false) {
+// The material's response to a strain (small, or Green-Lagrange with `finite`) over a time dt.
+State eval(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, bool finite = false, Real dt = 0) {
   State s;
   s.history.assign(m.history_size(), 0);
   MaterialInput in;
   in.finite = finite;
+  in.dt = dt;
   in.strain = strain;
   in.history_old = old.data();
   in.history_new = s.history.data();
@@ -43,12 +44,12 @@ Real mises(const Vec6& s) {
 
 // Central differences of the stress in the strain (Voigt, engineering shears).
 Mat6 numeric_tangent(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, Real h,
-                     bool finite = false) {
+                     bool finite = false, Real dt = 0) {
   Mat6 D;
   for (int b = 0; b < 6; ++b) {
     Vec6 e = Vec6::Zero();
     e(b) = h;
-    D.col(b) = (eval(m, strain + e, old, finite).stress - eval(m, strain - e, old, finite).stress) / (2 * h);
+    D.col(b) = (eval(m, strain + e, old, finite, dt).stress - eval(m, strain - e, old, finite, dt).stress) / (2 * h);
   }
   return D;
 }
@@ -349,22 +350,6 @@ TEST(J2PlasticityFinite, KinematicHardeningIsRefused) {
 
 // ---- Viscoplasticity (Perzyna overstress) ----
 
-namespace {
-
-State eval_dt(const J2Plasticity& m, const Vec6& strain, const std::vector<Real>& old, Real dt, bool finite = false) {
-  State s;
-  s.history.assign(m.history_size(), 0);
-  MaterialInput in;
-  in.finite = finite;
-  in.dt = dt;
-  in.strain = strain;
-  in.history_old = old.data();
-  in.history_new = s.history.data();
-  m.compute(in, s.stress, s.tangent);
-  return s;
-}
-
-}  // namespace
 
 // The viscoplastic tangent against central differences (small and finite strain, rate
 // exponents 1 and 3, every hardening), with an overstress of the order of the yield stress.
@@ -378,20 +363,14 @@ TEST(J2Viscoplasticity, TangentMatchesCentralDifferences) {
         mat.initialize_history(old.data());
         const Vec6 strain = 3 * ey * kDirection;
         const Real dt = 0.1;
-        const State s = eval_dt(mat, strain, old, dt, finite);
+        const State s = eval(mat, strain, old, finite, dt);
         ASSERT_EQ(s.history[mat.yielding_slot()], 1);
-        Mat6 num;
-        for (int b = 0; b < 6; ++b) {
-          Vec6 e = Vec6::Zero();
-          e(b) = 1e-9;
-          num.col(b) = (eval_dt(mat, strain + e, old, dt, finite).stress - eval_dt(mat, strain - e, old, dt, finite).stress) /
-                       2e-9;
-        }
+        const Mat6 num = numeric_tangent(mat, strain, old, 1e-9, finite, dt);
         EXPECT_LT((s.tangent - num).norm(), 1e-6 * s.tangent.norm())
             << (finite ? "finite" : "small") << " m " << m << " H " << h.H << " voce " << h.voce << " kin " << h.kinematic;
         // The overstress is real: the stress is outside the rate-independent yield surface.
         const J2Plasticity ri(kE, kNu, kSy, h, finite);
-        const State r = eval_dt(ri, strain, old, dt, finite);
+        const State r = eval(ri, strain, old, finite, dt);
         EXPECT_GT(s.history[mat.alpha_slot()], 0);
         EXPECT_LT(s.history[mat.alpha_slot()], 0.9 * r.history[ri.alpha_slot()]) << "viscosity slows the flow";
       }
@@ -405,14 +384,14 @@ TEST(J2Viscoplasticity, RateIndependentLimitAndNoFlowWithoutTime) {
     const J2Plasticity ri(kE, kNu, kSy, h);
     std::vector<Real> old(ri.history_size(), 0.0);
     const Vec6 strain = 3 * ey * kDirection;
-    const State r = eval_dt(ri, strain, old, 1.0);
-    const State zero = eval_dt(J2Plasticity(kE, kNu, kSy, h, false, J2Viscosity{0, 2}), strain, old, 1.0);
+    const State r = eval(ri, strain, old, false, 1.0);
+    const State zero = eval(J2Plasticity(kE, kNu, kSy, h, false, J2Viscosity{0, 2}), strain, old, false, 1.0);
     EXPECT_EQ((r.stress - zero.stress).norm(), 0);
     for (Real m : {1.0, 4.0}) {
       const J2Plasticity v(kE, kNu, kSy, h, false, J2Viscosity{1e-10, m});
-      const State s = eval_dt(v, strain, old, 1.0);
+      const State s = eval(v, strain, old, false, 1.0);
       EXPECT_LT((s.stress - r.stress).norm(), 1e-6 * r.stress.norm() * (m == 1 ? 1 : 1e3)) << "m " << m;
-      const State none = eval_dt(v, strain, old, 0.0);
+      const State none = eval(v, strain, old, false, 0.0);
       EXPECT_EQ(none.history[J2Plasticity::kYielding], 0);
       EXPECT_EQ(none.history[J2Plasticity::kAlpha], 0);
     }
@@ -437,7 +416,7 @@ TEST(J2Viscoplasticity, UniaxialConstantStrainRate) {
   for (int k = 1; k * dt < ty + 10 * tc; ++k) {
     const Real t = k * dt, exx = rate * t;
     for (int it = 0; it < 30; ++it) {
-      s = eval_dt(m, (Vec6() << exx, lateral, lateral, 0, 0, 0).finished(), hist, dt);
+      s = eval(m, (Vec6() << exx, lateral, lateral, 0, 0, 0).finished(), hist, false, dt);
       if (std::abs(s.stress(1)) < 1e-11 * kSy) break;
       lateral -= s.stress(1) / (s.tangent(1, 1) + s.tangent(1, 2));
     }

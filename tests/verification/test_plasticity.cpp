@@ -32,6 +32,18 @@ using namespace signorini;
 
 namespace {
 
+// The model of a deck given as text (written to a temporary file named after `stem`, read,
+// removed).
+Model model_from_text(const std::string& stem, const std::string& text) {
+  namespace fs = std::filesystem;
+  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + stem + "_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(tmp) << text;
+  Registry r = default_registry();
+  Model m = read_deck(tmp.string(), r);
+  fs::remove(tmp);
+  return m;
+}
+
 // A curve for the docs' plots (examples/*/plot.py read them): build/curves/NAME.csv.
 std::ofstream curve_file(const std::string& name, const std::string& header) {
   const std::filesystem::path dir = std::filesystem::path(SIGNORINI_BINARY_DIR) / "curves";
@@ -98,11 +110,7 @@ struct CylinderRun {
 CylinderRun run_cylinder(Real p, Real h, const std::string& increments, bool finite = false) {
   namespace fs = std::filesystem;
   log::set_level(log::Level::warning);
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_plastic_cylinder_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << deck(p, h, increments, finite);
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  fs::remove(tmp);
+  Model m = model_from_text("plastic_cylinder", deck(p, h, increments, finite));
   Analysis a(m);
   CylinderRun out;
   // The outer node on the x axis, and each cell's centroid radius.
@@ -245,11 +253,7 @@ std::vector<BarPoint> run_bar(const std::string& material_extra, bool hold, Anal
     replace("output:", "  - name: hold\n    time: 50\n    increments: {initial: 0.004, max: 0.004}\n    boundary:\n"
                        "      - {set: XMin, ux: 0}\n      - {set: YMin, uy: 0}\n      - {set: ZMin, uz: 0}\n"
                        "      - {set: XMax, ux: 0.01}\noutput:");
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_viscoplastic_bar_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << text;
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  fs::remove(tmp);
+  Model m = model_from_text("viscoplastic_bar", text);
   Analysis a(m);
   std::vector<BarPoint> out;
   a.on_increment([&](const Analysis& an, const IncrementRecord& rec) {
@@ -328,11 +332,7 @@ TEST(Centrifugal, RotatingDiskMatchesTheClosedForm) {
       "steps:\n  - name: spin\n    boundary:\n      - {set: SymX, uy: 0}\n      - {set: SymY, ux: 0}\n"
       "    loads:\n      - {body: disk, centrifugal: {density: 7800, omega: 1000}}\n"
       "output: {vtu: none}\n";
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_rotating_disk_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(tmp) << text;
-  Registry r = default_registry();
-  Model m = read_deck(tmp.string(), r);
-  fs::remove(tmp);
+  Model m = model_from_text("rotating_disk", text);
   Analysis an(m);
   const AnalysisSummary s = an.run();
   ASSERT_TRUE(s.completed) << s.failure;
