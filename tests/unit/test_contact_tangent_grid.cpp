@@ -1,6 +1,6 @@
 // The finite-difference tangent grid: for every combination the compatibility table allows
 // (contact/compatibility.hpp: analysis x slave and master facets x discretization, one or two
-// passes, rigid plane/cylinder/sphere x enforcement x friction x smoothing), the contact
+// passes, self-contact, rigid plane/cylinder/sphere x enforcement x friction x smoothing), the contact
 // residual's tangent against central differences of the residual, at a state with open and
 // closed slave nodes (and, with friction, an increment's tangential motion from the slip
 // origins), through the pair's whole lifecycle (detect, begin_increment, assemble, and for the
@@ -95,6 +95,15 @@ void check_combination(const ContactCombination& c) {
     cs.discretization = c.discretization;
     cs.master = three ? "lower_zmax" : "lower_ymax";
     cs.slave = three ? "upper_zmin" : "upper_ymin";
+    if (c.self) {
+      // Self-contact: the two faces as one facet set (every node of either is a slave of the
+      // other's facets).
+      auto& both = mesh.facet_sets["both"];
+      for (const std::string& set : {cs.master, cs.slave})
+        for (const ElementBlock& b : mesh.facet_sets.at(set)) both.push_back(b);
+      cs.self = true;
+      cs.master = cs.slave = "both";
+    }
   }
   ASSERT_TRUE(check_contact_combination(c).message.empty());
 
@@ -299,6 +308,17 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   smooth.smoothing = "hermite";
   smooth.master_facet = ElementType::line3;
   EXPECT_NE(check_contact_combination(smooth).message.find("line2"), std::string::npos);
+  ContactCombination self;
+  self.self = true;
+  EXPECT_TRUE(check_contact_combination(self).message.empty()) << "self-contact node_to_segment";
+  self.friction = "coulomb";
+  EXPECT_TRUE(check_contact_combination(self).message.empty()) << "self-contact with friction";
+  self.friction = "none";
+  self.discretization = "mortar";
+  EXPECT_EQ(check_contact_combination(self).key, "self");
+  self.discretization = "node_to_segment";
+  self.smoothing = "hermite";
+  EXPECT_EQ(check_contact_combination(self).key, "self");
   // The supported list has no duplicates and is what the table allows.
   const auto all = supported_contact_combinations();
   std::set<std::string> names;

@@ -467,9 +467,36 @@ TEST(Deck, MultiBodyContactErrors) {
   EXPECT_MESSAGE(m, "mb_master.yaml:", "contact.auto.master", "no 'master'");
   m = error_of("mb_map", kGood + "contact:\n  stack: {surfaces: [Top, Bottom]}\n");
   EXPECT_MESSAGE(m, "mb_map.yaml:", "'contact'", "{auto: {surfaces");
-  // Three surfaces of the one body: no pair (self-contact is not available).
+  // Three surfaces of the one body: no pair (self-contact is an entry of its own, self: true).
   m = error_of("mb_self", kGood + "contact:\n  auto: {surfaces: [Top, Bottom, Left]}\n");
   EXPECT_MESSAGE(m, "mb_self.yaml:", "contact.auto.surfaces", "different bodies");
+}
+
+// Self-contact: contact: [{surface: S, self: true}]; the errors name the key.
+TEST(Deck, SelfContactEntries) {
+  Registry r = default_registry();
+  Model ok = read_deck(write_deck("self_good", kGood + "contact:\n  - {name: fold, surface: Top, self: true}\n"), r);
+  ASSERT_EQ(ok.contacts.size(), 1u);
+  EXPECT_TRUE(ok.contacts[0].self);
+  EXPECT_EQ(ok.contacts[0].slave, "Top");
+  EXPECT_EQ(ok.contacts[0].master, "Top");
+  auto m = error_of("self_nosurface", kGood + "contact:\n  - {name: fold, self: true}\n");
+  EXPECT_MESSAGE(m, "self_nosurface.yaml:", "contact[0]", "needs 'surface'");
+  m = error_of("self_master", kGood + "contact:\n  - {name: fold, surface: Top, master: Bottom, self: true}\n");
+  EXPECT_MESSAGE(m, "self_master.yaml:", "contact[0].master", "'surface', not 'master'");
+  m = error_of("self_missing", kGood + "contact:\n  - {name: fold, surface: Top}\n");
+  EXPECT_MESSAGE(m, "self_missing.yaml:", "contact[0].surface", "self: true");
+  m = error_of("self_same", kGood + "contact:\n  - {name: fold, master: Top, slave: Top}\n");
+  EXPECT_MESSAGE(m, "self_same.yaml:", "contact[0].slave", "surface: Top, self: true");
+  m = error_of("self_mortar", kGood + "contact:\n  - {name: fold, surface: Top, self: true, discretization: mortar}\n");
+  EXPECT_MESSAGE(m, "self_mortar.yaml:", "contact[0].self", "node_to_segment only");
+  m = error_of("self_passes", kGood + "contact:\n  - {name: fold, surface: Top, self: true, passes: 2}\n");
+  EXPECT_MESSAGE(m, "self_passes.yaml:", "contact[0].self", "one pass");
+  m = error_of("self_rigid", kGood + "contact:\n  - {name: fold, slave: Top, self: true, master: {rigid: plane, "
+                                    "point: [0, 2], normal: [0, -1]}}\n");
+  EXPECT_MESSAGE(m, "self_rigid.yaml:", "contact[0].self", "no master");
+  m = error_of("self_surface", kGood + "contact:\n  - {name: fold, surface: Nowhere, self: true}\n");
+  EXPECT_MESSAGE(m, "self_surface.yaml:", "contact[0].surface", "Nowhere");
 }
 
 // The centrifugal load: a body, the axis by dimension, keys checked.

@@ -96,6 +96,18 @@ const std::vector<Rule>& rules() {
        [](const ContactCombination&) {
          return std::string("a sphere needs an axisymmetric or 3D analysis (use a cylinder in plane problems)");
        }},
+      {"self-contact other than node_to_segment, one pass, without smoothing",
+       [](const ContactCombination& c) {
+         return c.self && (c.discretization != "node_to_segment" || c.passes != 1 || c.smoothing != "none");
+       },
+       "self",
+       [](const ContactCombination& c) {
+         if (c.discretization != "node_to_segment")
+           return std::string("self-contact is node_to_segment only so far (mortar and segment_to_segment: not yet)");
+         if (c.passes != 1)
+           return std::string("self-contact has one pass: every node of the surface is slave already");
+         return std::string("self-contact has no smoothing so far (the surface stays faceted)");
+       }},
       {"two passes other than node_to_segment",
        [](const ContactCombination& c) { return c.passes == 2 && c.discretization != "node_to_segment"; }, "passes",
        [](const ContactCombination& c) {
@@ -152,6 +164,7 @@ std::string ContactCombination::text() const {
   if (!rigid()) s += " on " + element_info(master_facet).name + " master";
   s += ", " + discretization;
   if (passes == 2) s += " (two passes)";
+  if (self) s += " (self-contact)";
   s += ", " + method + ", " + (friction == "none" ? std::string("frictionless") : friction);
   if (smoothing != "none") s += ", " + smoothing + " smoothing";
   return s;
@@ -180,6 +193,7 @@ std::vector<ContactCombination> contact_combinations(const ContactPairSettings& 
   base.method = s.method;
   base.friction = s.friction;
   base.smoothing = s.smoothing;
+  base.self = s.self;
   base.slave_set = s.slave;
   base.master_set = s.rigid ? "" : s.master;
   std::vector<ContactCombination> out;
@@ -223,8 +237,11 @@ std::vector<ContactCombination> supported_contact_combinations() {
           for (int passes : {1, 2})
             for (const std::string& m : kMethods)
               for (const std::string& fr : kFrictions)
-                for (const std::string& sm : kSmoothings) {
+                for (const std::string& sm : kSmoothings)
+                  for (bool self : {false, true}) {
+                  if (self && (disc.rfind("rigid_", 0) == 0 || mf != f)) continue;  // one surface
                   ContactCombination c;
+                  c.self = self;
                   c.dimension = d;
                   c.slave_facet = f;
                   c.master_facet = mf;
@@ -234,7 +251,7 @@ std::vector<ContactCombination> supported_contact_combinations() {
                   c.friction = fr;
                   c.smoothing = sm;
                   if (check_contact_combination(c).message.empty()) out.push_back(c);
-                }
+                  }
   }
   return out;
 }
@@ -247,6 +264,7 @@ std::string contact_compatibility_text() {
   s += "  enforcement:     lagrange, augmented_lagrangian, penalty\n";
   s += "  friction:        none, coulomb, tresca\n";
   s += "  smoothing:       none, hermite\n";
+  s += "  self-contact:    no, yes (one surface: master and slave facets the same)\n";
   s += "  every combination is available except:\n";
   for (const Rule& r : rules()) s += fmt::format("    - {} [key '{}']\n", r.when, r.key);
   s += fmt::format("  {} combinations are supported; each is checked against central differences by the "

@@ -28,6 +28,7 @@ struct ContactCombination {
   std::string method = "lagrange";  // lagrange, augmented_lagrangian, penalty
   std::string friction = "none";    // none, coulomb, tresca
   std::string smoothing = "none";   // none, hermite
+  bool self = false;                // self-contact (one surface, slave and master)
   std::string slave_set, master_set;  // the facet sets, for messages (may be empty)
   bool rigid() const { return discretization.rfind("rigid_", 0) == 0; }
   std::string text() const;  // e.g. "3D, tri3 slave on quad4 master, node_to_segment, lagrange, coulomb"

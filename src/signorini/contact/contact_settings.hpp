@@ -23,6 +23,7 @@ struct ContactPairSettings {
   bool rigid = false;
   RigidObstacle obstacle;
   std::string slave;                              // facet set
+  bool self = false;                              // self-contact: master and slave are one surface
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node
   std::string smoothing = "none";                 // none, hermite (2D: C1 master curve through the nodes)
   int passes = 1;                                 // 2: each surface is also slave of the other

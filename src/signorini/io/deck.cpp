@@ -569,7 +569,7 @@ std::vector<std::pair<std::string, std::string>> automatic_pairs(const Model& m,
   for (size_t i = 0; i < sets.size(); ++i)
     for (size_t j = i + 1; j < sets.size(); ++j) {
       const SurfaceInfo a = surface_info(m, sets[i]), b = surface_info(m, sets[j]);
-      if (!a.body.empty() && a.body == b.body) continue;  // self-contact is not available
+      if (!a.body.empty() && a.body == b.body) continue;  // self-contact is an entry of its own (self: true)
       const Real reach = max_distance > 0 ? max_distance : 2 * std::max(a.median_edge, b.median_edge);
       const auto [alo, ahi] = facet_set_box(m.mesh, sets[i]);
       const auto [blo, bhi] = facet_set_box(m.mesh, sets[j]);
@@ -609,6 +609,8 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
     const bool rigid = c.has("master") && c.child("master").node.IsMap();
     const bool automatic = auto_map || (!rigid && c.has("master") && c.child("master").as_string() == "auto");
     std::vector<std::string> auto_sets;  // more than two surfaces: multi-body
+    if (c.has("self") && c.child("self").as_bool() && (rigid || automatic))
+      c.child("self").fail("self-contact has one surface, named by 'surface' (no master)");
     if (rigid) {
       Node rm = c.child("master");
       const TypeSpec& rs = deck_spec(r, "rigid");
@@ -659,13 +661,22 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
       const std::string a = facet_set(sf.at(0)), b = facet_set(sf.at(1));
       choose_slave(m, a, b, cs);
       log::info("contact '{}': master: auto chose slave '{}' and master '{}'", cs.name, cs.slave, cs.master);
+    } else if (!automatic && !rigid && c.has("self") && c.child("self").as_bool()) {
+      // Self-contact: one surface, slave and master at once.
+      if (!c.has("surface")) c.fail("self: true needs 'surface' (the facet set in contact with itself)");
+      for (const char* k : {"master", "slave", "surfaces"})
+        if (c.has(k)) c.child(k).fail(std::string("self-contact names its one facet set with 'surface', not '") + k + "'");
+      cs.self = true;
+      cs.slave = cs.master = facet_set(c.child("surface"));
     } else if (!automatic && !rigid) {
+      if (c.has("surface")) c.child("surface").fail("'surface' goes with self: true (self-contact)");
       if (!c.has("master") || !c.has("slave")) c.fail("a contact pair needs 'master' and 'slave' facet sets");
       if (c.has("surfaces")) c.child("surfaces").fail("'surfaces' goes with master: auto");
       cs.master = facet_set(c.child("master"));
       cs.slave = facet_set(c.child("slave"));
-      if (cs.master == cs.slave) c.child("slave").fail("master and slave are the same facet set (self-contact is not "
-                                                       "available yet)");
+      if (cs.master == cs.slave)
+        c.child("slave").fail("master and slave are the same facet set: for self-contact write surface: " + cs.slave +
+                              ", self: true");
       const SurfaceInfo im = surface_info(m, cs.master), is = surface_info(m, cs.slave);
       if (is.median_edge > 1.2 * im.median_edge)
         log::warning("{}: contact '{}': the slave surface '{}' (median facet size {:.3g}) is coarser than the master "

@@ -292,11 +292,14 @@ void register_deck_sections(Registry& r) {
                            "the symmetry axis (neither may be given)", std::nullopt, ParamKind::vector)),
           opt(text("origin", "a point on the axis ([x, y] in 2D, [x, y, z] in 3D; default the origin; not in "
                              "axisymmetry)", std::nullopt, ParamKind::vector))}});
-  r.add({"deck", "contact", "A contact pair between two facet sets (one list entry each).",
+  r.add({"deck", "contact", "A contact pair between two facet sets, or a surface in contact with itself (one list entry each).",
          {text("name", "pair name, used in messages and output", "contact<N>"),
           opt(text("master", "master facet set, auto (then give 'surfaces'), or a rigid obstacle {rigid: ...} (see "
                              "'describe rigid')", std::nullopt, ParamKind::any)),
           opt(text("slave", "slave facet set", std::nullopt)),
+          opt(text("surface", "with self: true, the facet set in contact with itself", std::nullopt)),
+          text("self", "self-contact of 'surface' (node_to_segment, one pass: every node is slave of the facets "
+                       "that face it, its own and their neighbours excluded)", "false", ParamKind::boolean),
           opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave; [A, B, C, ...]: a pair for every "
                                "two surfaces of different bodies within reach of each other (multi-body contact)",
                    std::nullopt, ParamKind::vector)),

@@ -1,6 +1,9 @@
 #include "signorini/contact/discretization/discretization.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
 #include <set>
 
 #include "signorini/contact/discretization/mortar.hpp"
@@ -236,7 +239,7 @@ class DeformableMaster : public Discretization {
   std::vector<Index> candidate_;  // per slave node: master facet (node-to-segment) or node (node-to-node)
 };
 
-class NodeToSegment final : public DeformableMaster {
+class NodeToSegment : public DeformableMaster {
  public:
   using DeformableMaster::DeformableMaster;
   std::string name() const override { return "node_to_segment"; }
@@ -258,6 +261,149 @@ class NodeToSegment final : public DeformableMaster {
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
     node_to_segment(master_, slave_, x, dim_, candidate_, out);
   }
+};
+
+// Self-contact: node-to-segment on one surface (ContactPairSettings::self). Every node of the
+// surface is constrained against the surface's own facets, except the facets around it (those
+// sharing a node with one of its facets: the "two-ring", where a node is always within reach)
+// and facets that do not face it (the facet's outward normal must point against the node's
+// averaged one: the two sides of a fold meet face to face; a facet seen from behind or across
+// a thin wall is no partner). Both sides of a fold are slave and master at once, as the two
+// passes of a pair would be. Search: a uniform grid of the facets' boxes grown by d_max (the
+// pair's bucket grid and tree return one closest facet, always the node's own here).
+class SelfNodeToSegment final : public NodeToSegment {
+ public:
+  SelfNodeToSegment(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, int dim)
+      : NodeToSegment(s, mesh, slave, dim), excluded_(slave.nodes.size()) {
+    for (size_t j = 0; j < slave_.nodes.size(); ++j) {
+      std::set<Index> ex;
+      for (Index f : master_.node_facets[slave_.nodes[j]])
+        for (Index m : master_.facets[f])
+          for (Index g : master_.node_facets[m]) ex.insert(g);
+      excluded_[j].assign(ex.begin(), ex.end());
+      sorted_.emplace_back(slave_.nodes[j], static_cast<Index>(j));
+    }
+    std::sort(sorted_.begin(), sorted_.end());
+  }
+  std::string name() const override { return "self_node_to_segment"; }
+  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+    const std::vector<Index> facet = closest_facing(x, dmax);
+    for (size_t j = 0; j < facet.size(); ++j)
+      if (facet[j] >= 0 || !(tracked[j] && candidate_[j] >= 0)) candidate_[j] = facet[j];
+  }
+  void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
+    node_to_segment(master_, slave_, x, dim_, candidate_, out, &excluded_);
+    // Two nodes that meet each other (each one's closest master point the other node: mirror
+    // images on a symmetry plane, or the nodes of two symmetric halves) carry the same
+    // constraint twice, which makes the multiplier system singular: the second is dropped.
+    std::vector<Index> vertex(out.size(), -1);
+    for (size_t j = 0; j < out.size(); ++j)
+      for (size_t k = 0; k < out[j].master_weights.size(); ++k)
+        if (out[j].kind != ConstraintKind::none && out[j].master_weights[k] >= 1 - kVertexWeight)
+          vertex[j] = out[j].nodes[k + 1];
+    for (size_t j = 0; j < out.size(); ++j) {
+      if (vertex[j] < 0) continue;
+      const Index k = index_of(vertex[j]);
+      if (k >= 0 && static_cast<size_t>(k) < j && vertex[k] == out[j].slave) {
+        Constraint open;
+        open.slave = out[j].slave;
+        open.weight = out[j].weight;
+        out[j] = std::move(open);
+      }
+    }
+  }
+
+ private:
+  static constexpr Real kVertexWeight = 1e-9;  // a master point this close to a node (in weights) is the node
+  Index index_of(Index node) const {
+    const auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(node, Index(-1)));
+    return it != sorted_.end() && it->first == node ? it->second : -1;
+  }
+  std::vector<std::pair<Index, Index>> sorted_;  // (mesh node, slave index), by mesh node
+
+  // Per slave node: the closest facet within dmax that is not excluded and faces the node.
+  std::vector<Index> closest_facing(const std::vector<Vec3>& x, Real dmax) const {
+    const Index nf = master_.size();
+    std::vector<Index> best(slave_.nodes.size(), -1);
+    if (nf == 0) return best;
+    const int nc = dim_ == 2 ? 2 : master_.corners(0);
+    std::vector<Vec3> corners(static_cast<size_t>(nf) * nc), normal(nf), lo(nf), hi(nf);
+    Vec3 glo = Vec3::Constant(std::numeric_limits<Real>::infinity()), ghi = -glo;
+    Real extent = 0;
+    std::vector<Vec3> xf;
+    for (Index f = 0; f < nf; ++f) {
+      xf.clear();
+      for (Index n : master_.facets[f]) xf.push_back(x[n]);
+      lo[f] = hi[f] = xf[0];
+      for (int k = 0; k < nc; ++k) {
+        corners[f * nc + k] = x[master_.facets[f][k]];
+        lo[f] = lo[f].cwiseMin(xf[k]);
+        hi[f] = hi[f].cwiseMax(xf[k]);
+      }
+      if (!lo[f].allFinite() || !hi[f].allFinite())
+        throw SolverError("self-contact: a facet has a non-finite corner (a diverging iterate)");
+      const Vec3 centre = element_info(master_.type[f]).family == ShapeFamily::simplex ? Vec3(1.0 / 3, 1.0 / 3, 0)
+                                                                                      : Vec3::Zero();
+      normal[f] = facet_normal(master_.type[f], xf, centre, dim_);
+      lo[f].array() -= dmax;
+      hi[f].array() += dmax;
+      glo = glo.cwiseMin(lo[f]);
+      ghi = ghi.cwiseMax(hi[f]);
+      extent += (hi[f] - lo[f]).head(dim_).maxCoeff();
+    }
+    // Cells about the size of a grown box (each box then spans a few cells per direction),
+    // coarsened while there would be more than 8 per facet.
+    Real cell = extent / static_cast<Real>(nf);
+    std::array<Index, 3> count{1, 1, 1};
+    for (;;) {
+      Real total = 1;
+      for (int d = 0; d < dim_; ++d) {
+        count[d] = static_cast<Index>(std::floor((ghi(d) - glo(d)) / cell)) + 1;
+        total *= static_cast<Real>(count[d]);
+      }
+      if (total <= 8.0 * static_cast<Real>(nf) + 64) break;
+      cell *= 1.5;
+    }
+    auto cell_of = [&](const Vec3& p, int d) {
+      const Real c = std::floor((p(d) - glo(d)) / cell);
+      return static_cast<Index>(std::clamp<Real>(c, 0, static_cast<Real>(count[d] - 1)));
+    };
+    auto cell_range = [&](Index f, auto&& visit) {
+      std::array<Index, 3> a{0, 0, 0}, b{0, 0, 0};
+      for (int d = 0; d < dim_; ++d) a[d] = cell_of(lo[f], d), b[d] = cell_of(hi[f], d);
+      for (Index k = a[2]; k <= b[2]; ++k)
+        for (Index j = a[1]; j <= b[1]; ++j)
+          for (Index i = a[0]; i <= b[0]; ++i) visit((k * count[1] + j) * count[0] + i);
+    };
+    // Facets per cell (compressed rows).
+    std::vector<Index> start(static_cast<size_t>(count[0] * count[1] * count[2]) + 1, 0), item;
+    for (Index f = 0; f < nf; ++f) cell_range(f, [&](Index c) { ++start[c + 1]; });
+    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    item.resize(start.back());
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (Index f = 0; f < nf; ++f) cell_range(f, [&](Index c) { item[fill[c]++] = f; });
+    const Index ns = static_cast<Index>(slave_.nodes.size());
+#pragma omp parallel for schedule(dynamic, 64)
+    for (Index j = 0; j < ns; ++j) {
+      const Index node = slave_.nodes[j];
+      const Vec3& p = x[node];
+      if (!p.allFinite()) continue;
+      const Vec3 nn = master_.node_normal(node, x, dim_);
+      Index c = 0;
+      for (int d = dim_ - 1; d >= 0; --d) c = c * count[d] + cell_of(p, d);
+      Real bd = dmax;
+      const std::vector<Index>& ex = excluded_[j];
+      for (Index k = start[c]; k < start[c + 1]; ++k) {
+        const Index f = item[k];
+        if (normal[f].dot(nn) >= 0 || std::binary_search(ex.begin(), ex.end(), f)) continue;
+        const Real dist = point_facet_distance(corners.data() + f * nc, nc, p);
+        if (dist <= bd) bd = dist, best[j] = f;
+      }
+    }
+    return best;
+  }
+
+  std::vector<std::vector<Index>> excluded_;  // per slave node: sorted facets it is never constrained against
 };
 
 class NodeToNode final : public DeformableMaster {
@@ -506,6 +652,7 @@ std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s
                                                     const SlaveSurface& slave, const AnalysisSettings& as) {
   const int dim = as.spatial_dim();
   if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim);
+  if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
   if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);

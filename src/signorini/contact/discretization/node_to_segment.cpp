@@ -13,7 +13,8 @@ constexpr Real kEdgeTolerance = 1e-2;  // in facet parameters
 }  // namespace
 
 void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
-                     const std::vector<Index>& candidate, ConstraintSet& out) {
+                     const std::vector<Index>& candidate, ConstraintSet& out,
+                     const std::vector<std::vector<Index>>* excluded) {
   const Index ns = static_cast<Index>(slave.nodes.size());
   out = open_constraints(slave);
 #pragma omp parallel for schedule(dynamic, 32)
@@ -21,7 +22,13 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     Constraint& c = out[j];
     if (candidate[j] < 0 || !(c.weight > 0)) continue;
     const Vec3& p = x[c.slave];
-    const std::vector<Index> around = master.neighbourhood(candidate[j]);
+    std::vector<Index> around = master.neighbourhood(candidate[j]);
+    if (excluded) {
+      const std::vector<Index>& ex = (*excluded)[j];
+      around.erase(std::remove_if(around.begin(), around.end(),
+                                  [&](Index f) { return std::binary_search(ex.begin(), ex.end(), f); }),
+                   around.end());
+    }
     // The closest projection that falls inside its facet; failing that, the closest one
     // within 1 % of a facet beyond its edge, on the facet's extended surface (a slave node
     // on a symmetry plane projects orthogonally onto a tilted boundary facet of a deforming

@@ -12,9 +12,12 @@
 
 namespace signorini {
 
-// candidate[j]: master facet found by the search for slave node j (-1: none).
+// candidate[j]: master facet found by the search for slave node j (-1: none). excluded
+// (self-contact): per slave node, the sorted master facets it must not be constrained against
+// (its own and their neighbours); null: none.
 void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
-                     const std::vector<Index>& candidate, ConstraintSet& out);
+                     const std::vector<Index>& candidate, ConstraintSet& out,
+                     const std::vector<std::vector<Index>>* excluded = nullptr);
 
 // master_node[j]: the master node paired with slave node j (-1: none); normal[j]: its normal.
 void node_to_node(const SlaveSurface& slave, const std::vector<Index>& master_node, const std::vector<Vec3>& normal,

@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""The crushed tube (examples/tube_crush, test SelfContact.TubeCrushedUntilItsInnerWallTouchesItself):
+plate force against closure with the thin-ring closed form of its start, and the deformed
+walls at the end (the half model mirrored), with the closed nodes of the self-contact marked.
+Reads the CSV files the test writes in build/curves/.
+
+    plot.py OUT.png [CURVES_DIR (default build/curves)]
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+R, T, E, NU = 10.0, 1.0, 10.0, 0.45
+EI = E / (1 - NU * NU) * T ** 3 / 12
+COEF = math.pi / 4 - 2 / math.pi  # closure = COEF P R^3 / EI (Timoshenko, Strength of Materials I, sec. 84)
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "tube_crush.png"
+    curves = sys.argv[2] if len(sys.argv) > 2 else "build/curves"
+    curve = read(os.path.join(curves, "tube_crush.csv"))
+    shape = read(os.path.join(curves, "tube_crush_shape.csv"))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.6))
+    c = [float(r["closure"]) for r in curve]
+    f = [float(r["force"]) for r in curve]
+    a1.plot(c, f, "o-", ms=3, label="Signorini (plates on the whole ring)")
+    cl = [0, 0.25 * max(c)]
+    a1.plot(cl, [x * EI / (COEF * R ** 3) for x in cl], "k--", label="thin ring, linear (Timoshenko)")
+    a1.set_xlabel("closure of the plates 2d (mm)")
+    a1.set_ylabel("plate force P (N per mm of depth)")
+    a1.set_yscale("log")
+    a1.set_title("Force against closure")
+    a1.legend()
+    for wall, style in (("Inner", "b-"), ("Outer", "k-")):
+        pts = sorted((float(r["angle"]), float(r["x"]), float(r["y"]), r["closed"] == "1") for r in shape if r["wall"] == wall)
+        xs = [p[1] for p in pts]
+        ys = [p[2] for p in pts]
+        a2.plot(xs, ys, style, lw=1)
+        a2.plot([-x for x in xs], ys, style, lw=1)
+        cx = [p[1] for p in pts if p[3]]
+        cy = [p[2] for p in pts if p[3]]
+        if cx:
+            a2.plot(cx + [-x for x in cx], cy + cy, "ro", ms=3, label="closed self-contact nodes")
+    a2.set_aspect("equal")
+    a2.set_title("Deformed walls at the end")
+    a2.legend(loc="upper right")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print("wrote", out)
+
+
+if __name__ == "__main__":
+    main()
