@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The crushed tube (examples/tube_crush, test SelfContact.TubeCrushedUntilItsInnerWallTouchesItself):
-plate force against closure with the thin-ring closed form of its start, and the deformed
+bar force against closure with the thin-ring closed form of its start, and the deformed
 walls at the end (the half model mirrored), with the closed nodes of the self-contact marked.
 Reads the CSV files the test writes in build/curves/.
 
@@ -34,14 +34,17 @@ def main():
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.6))
     c = [float(r["closure"]) for r in curve]
     f = [float(r["force"]) for r in curve]
-    a1.plot(c, f, "o-", ms=3, label="Signorini (plates on the whole ring)")
-    cl = [0, 0.25 * max(c)]
+    a1.plot(c, f, "o-", ms=3, label="Signorini (force of a bar on the whole ring)")
+    cl = [0, 2.0]
     a1.plot(cl, [x * EI / (COEF * R ** 3) for x in cl], "k--", label="thin ring, linear (Timoshenko)")
-    a1.set_xlabel("closure of the plates 2d (mm)")
-    a1.set_ylabel("plate force P (N per mm of depth)")
-    a1.set_yscale("log")
+    touch = next((x for x, y in zip(c, f) if y > 2 * f[0] * x / c[0] and x > 15), None)
+    if touch:
+        a1.axvline(touch, color="r", lw=0.8, ls=":", label="inner wall touches (force then rises steeply)")
+    a1.set_xlabel("closure of the bars 2d (mm)")
+    a1.set_ylabel("bar force P (N per mm of depth)")
+    a1.set_ylim(0, 1.6 * max(y for x, y in zip(c, f) if x < 18))
     a1.set_title("Force against closure")
-    a1.legend()
+    a1.legend(loc="lower right")
     for wall, style in (("Inner", "b-"), ("Outer", "k-")):
         pts = sorted((float(r["angle"]), float(r["x"]), float(r["y"]), r["closed"] == "1") for r in shape if r["wall"] == wall)
         xs = [p[1] for p in pts]
