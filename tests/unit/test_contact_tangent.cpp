@@ -150,11 +150,13 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
     DofMap dofs(mesh.num_nodes(), 2, cells);
     ci.set_multiplier_offset(dofs.num_dofs());
     ci.set_obstacle_dofs(dofs.num_dofs() + ci.num_multipliers());
-    const Index nz = dofs.num_dofs() + ci.num_multipliers() + 2;
+    ASSERT_EQ(ci.num_obstacle_dofs(), 3);  // plane strain: two translations and the angle
+    const Index nz = dofs.num_dofs() + ci.num_multipliers() + 3;
     VecX z = VecX::Zero(nz);
     for (Index n = 0; n < mesh.num_nodes(); ++n) z(dofs.dof(n, 0)) = 0.01 * std::sin(3.0 * n);
-    z(nz - 2) = 0.02;   // the obstacle moves sideways and down into the block
-    z(nz - 1) = -0.03;
+    z(nz - 3) = 0.02;   // the obstacle moves sideways and down into the block, and turns
+    z(nz - 2) = -0.03;
+    z(nz - 1) = 0.05;
     for (Index j = 0; j < ci.num_multipliers(); ++j) z(dofs.num_dofs() + j) = 0.5 * (j % 2);
     ci.detect(test::cells_of_positions(mesh, dofs, z), 0.1);
     auto residual = [&](const VecX& zz, GlobalMatrix* K) {
@@ -173,7 +175,8 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
     for (char a : ci.state().active) active += a;
     ASSERT_GT(active, 0) << method;
     // The obstacle feels the opposite of the slave nodes' contact forces.
-    EXPECT_GT(std::abs(r0(nz - 1)), 0) << method;
+    EXPECT_GT(std::abs(r0(nz - 2)), 0) << method;
+    EXPECT_EQ(r0(nz - 1), 0) << method << ": frictionless, a turning circle feels no moment";
     const Real maxerr =
         test::central_difference_error([&](const VecX& zz) { return residual(zz, nullptr); }, z, K.k, 1e-7);
     EXPECT_LT(maxerr, 1e-6 * K.k.cwiseAbs().maxCoeff()) << method;
@@ -259,7 +262,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
   DofMap dofs(mesh.num_nodes(), dim, cells);
   // Start of the increment: the slave side pressed in; then a tangential motion of varying
   // size, so that some closed nodes stick and others slip.
-  const Index nu = dofs.num_dofs() + (fc.rigid ? dim : 0);
+  const Index nu = dofs.num_dofs() + (fc.rigid ? dim + 1 : 0);  // the roller: translations and angle
   VecX z0 = VecX::Zero(nu);
   const int vert = dim - 1;
   const std::string moving = fc.rigid ? "domain" : "upper_domain";
@@ -267,7 +270,8 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     const Vec3& X = mesh.nodes[n];
     z0(dofs.dof(n, vert)) = (fc.rigid ? 1 : -1) * (0.004 + 0.006 * std::sin(7 * X(0) + 3 * X(1)));
   }
-  if (fc.rigid) z0(nu - 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
+  if (fc.rigid) z0(dofs.num_dofs() + 1) = -0.04;  // the roller moves down into the block (3 nodes touch)
+  if (fc.rigid) z0(nu - 1) = 0.02;                // and has turned
   if (fc.smoothing != "none") bend_lower_block(mesh, dofs, dim, z0);
   VecX z = z0;
   for (Index n : mesh.node_sets[moving]) {
@@ -275,7 +279,8 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     z(dofs.dof(n, 0)) += 0.004 * std::cos(5 * X(0) + 2 * X(vert)) + 0.002;
     if (dim == 3) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
   }
-  if (fc.rigid) z(nu - 2) = 0.003;
+  if (fc.rigid) z(dofs.num_dofs()) = 0.003;
+  if (fc.rigid) z(nu - 1) = 0.03;  // it turns on in the increment: the slip origins move on a circle
   // The tangential penalty that gives a mix of sticking and slipping nodes for this motion.
   bool checked = false;
   for (Real epst : {4000.0, 1000.0, 16000.0, 250.0, 64000.0, 60.0}) {

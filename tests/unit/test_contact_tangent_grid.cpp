@@ -109,13 +109,18 @@ void check_combination(const ContactCombination& c) {
 
   // Start of the increment: the slave side pressed in (a wave, so some nodes open); then a
   // tangential motion of varying size.
-  const Index nu = nd + (c.rigid() ? dim : 0);
+  // A rigid obstacle's unknowns: dim translations, and in plane problems its angle.
+  const bool turns = c.rigid() && (c.dimension == Dimension::plane_strain || c.dimension == Dimension::plane_stress);
+  const Index nu = nd + (c.rigid() ? dim + (turns ? 1 : 0) : 0);
   VecX z0 = VecX::Zero(nu);
   for (Index n : mesh.node_sets[moving]) {
     const Vec3& X = mesh.nodes[n];
     z0(dofs.dof(n, vert)) = (c.rigid() ? 1 : -1) * (0.004 + 0.008 * std::sin(7 * X(0) + 3 * X(1)));
   }
-  if (c.rigid()) z0(nu - 1) = c.discretization == "rigid_plane" ? 0.0 : -0.04;
+  if (c.rigid()) z0(nd + vert) = c.discretization == "rigid_plane" ? 0.0 : -0.04;
+  // Turned (a plane about its point, so its normal tilts; a cylinder about its centre, which
+  // moves friction's slip origins), and turned further in the increment.
+  if (turns) z0(nd + dim) = -0.005;
   if (c.smoothing != "none") {
     // A curved master, so that smoothing differs from the faceted surface.
     for (Index n : mesh.node_sets.at("lower_domain")) {
@@ -129,7 +134,8 @@ void check_combination(const ContactCombination& c) {
     z(dofs.dof(n, 0)) += 0.004 * std::cos(5 * X(0) + 2 * X(vert)) + 0.002;
     if (three) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
   }
-  if (c.rigid()) z(nu - dim) = 0.003;
+  if (c.rigid()) z(nd) = 0.003;
+  if (turns) z(nd + dim) = -0.008;
 
   // Tangential stiffness: automatic first; others until some closed nodes stick and others slip.
   const std::vector<Real> tangential =
@@ -145,6 +151,7 @@ void check_combination(const ContactCombination& c) {
       nm += p->num_multipliers();
     }
     for (auto& p : pairs) p->set_obstacle_dofs(nd + nm);
+    ASSERT_EQ(pairs[0]->num_obstacle_dofs(), nu - nd);
     const Index nz = nu + nm;
     // Unknowns: displacements, multipliers (per pair: normal, then dim tangential per slave
     // node) with pressures of both signs and tractions of varying size, the obstacle's motion.

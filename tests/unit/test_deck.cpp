@@ -499,6 +499,32 @@ TEST(Deck, SelfContactEntries) {
   EXPECT_MESSAGE(m, "self_surface.yaml:", "contact[0].surface", "Nowhere");
 }
 
+// A rigid obstacle that turns (plane problems): rotation in a boundary entry, moment in a load.
+TEST(Deck, TurningObstacleEntries) {
+  const std::string roller = "contact:\n  - {name: roller, slave: Top, master: {rigid: cylinder, center: [0.5, 2], "
+                             "radius: 1}}\n";
+  const std::string good = replace(kGood + roller, "      - {set: Bottom, uy: 0}\n",
+                                   "      - {set: Bottom, uy: 0}\n      - {contact: roller, u: [~, -0.1], rotation: -0.2}\n");
+  ASSERT_NE(good, kGood + roller);
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("turn_good", replace(good, "    loads:\n", "    loads:\n      - {contact: roller, moment: 5}\n")), r);
+  ASSERT_EQ(m.steps[0].obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(*m.steps[0].obstacles[0].rotation, -0.2);
+  EXPECT_FALSE(m.steps[0].obstacles[0].u[0].has_value());
+  EXPECT_DOUBLE_EQ(*m.steps[0].obstacles[0].u[1], -0.1);
+  ASSERT_EQ(m.steps[0].loads.size(), 2u);
+  EXPECT_DOUBLE_EQ(*m.steps[0].loads[0].moment, 5);
+  EXPECT_FALSE(m.steps[0].loads[0].obstacle_translations) << "a moment alone leaves the translations held";
+  auto e = error_of("turn_set", replace(good, "{set: Bottom, uy: 0}", "{set: Bottom, uy: 0, rotation: 1}"));
+  EXPECT_MESSAGE(e, "turn_set.yaml:", "rotation", "rigid obstacle");
+  e = error_of("turn_axi", replace(good, "dimension: plane_strain", "dimension: axisymmetric"));
+  EXPECT_MESSAGE(e, "turn_axi.yaml:", "rotation", "plane strain and plane stress");
+  e = error_of("turn_moment", replace(good, "traction: [1e6, 0]}", "traction: [1e6, 0], moment: 3}"));
+  EXPECT_MESSAGE(e, "turn_moment.yaml:", "moment", "rigid obstacle ('contact')");
+  e = error_of("turn_none", replace(good, "u: [~, -0.1], rotation: -0.2", "ux: 0"));
+  EXPECT_MESSAGE(e, "turn_none.yaml:", "turns by 'rotation'");
+}
+
 // The centrifugal load: a body, the axis by dimension, keys checked.
 TEST(Deck, CentrifugalLoadErrors) {
   const std::string spin = "    loads:\n      - {body: plate, centrifugal: {density: 7800, omega: 100}}\n";

@@ -206,6 +206,25 @@ TEST(Inp, TranslatesStepsLoadsAndMaterials) {
   EXPECT_DOUBLE_EQ(s2.loads[1].pressure, 5.0);
 }
 
+// *CONTACT PAIR with the same surface on both sides is self-contact (surface: S, self: true).
+TEST(Inp, SameSurfaceOnBothSidesIsSelfContact) {
+  log::set_level(log::Level::warning);
+  std::string text = kPlate;
+  const std::string at = "*BOUNDARY\nLEFT, ENCASTRE\n";
+  ASSERT_NE(text.find(at), std::string::npos);
+  text.insert(text.find(at), "*SURFACE, NAME=EDGE\nPLATE, S3\n*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, "
+                             "PRESSURE-OVERCLOSURE=HARD\n*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE\nEDGE, EDGE\n");
+  const fs::path p = write_temp("self.inp", text);
+  Registry r = default_registry();
+  Model m = read_deck(p.string(), r);
+  fs::remove(p);
+  ASSERT_EQ(m.contacts.size(), 1u);
+  EXPECT_TRUE(m.contacts[0].self);
+  EXPECT_EQ(m.contacts[0].slave, "EDGE");
+  EXPECT_EQ(m.contacts[0].master, "EDGE");
+  EXPECT_EQ(m.contacts[0].discretization, "node_to_segment");
+}
+
 // Every bad input gets one message naming the file, the line and the keyword.
 TEST(Inp, ErrorsNameFileLineAndKeyword) {
   log::set_level(log::Level::quiet);

@@ -37,10 +37,14 @@ struct Constraint {
   // Friction kinematics, set by the contact interface for a pair with friction: d = x_s - x_0
   // with x_0 the master material point that was closest at the start of the increment (its
   // tangential part is the slip of the increment, course: g_t dt = delta rho(xi)), and
-  // D = dd/dz over the DOFs of `nodes` then `extra_dofs` (dim rows, constant).
+  // D = dd/dz over the DOFs of `nodes` then `extra_dofs` (dim rows; constant but for a turning
+  // obstacle, see slip_hessian).
   bool has_slip = false;
   Vec3 slip = Vec3::Zero();
   MatX slip_jacobian;
+  // d2 d_i / dz2 (i < dim, over the columns of grad) where D is not constant (a rigid obstacle
+  // that turns: its material point moves on a circle); empty: D is constant.
+  std::vector<MatX> slip_hessian;
   // The tangential part of d: the slip of the increment (a sticking node's elastic slip).
   Vec3 tangential_slip() const { return slip - normal * normal.dot(slip); }
 };

@@ -42,16 +42,20 @@ struct Load {
   std::string set;        // node set, facet set, body name (body force) or contact pair (obstacle force)
   Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
   Real pressure = 0;
+  std::optional<Real> moment;  // obstacle_force: the moment about z on a turning obstacle (plane problems)
+  bool obstacle_translations = true;  // obstacle_force: a force is given (its translations are then free)
   Centrifugal centrifugal;
   std::string where;
 };
 
-// Prescribed displacement components of a rigid obstacle (absent: not prescribed), ramped
-// over the step like Dirichlet values from where the obstacle is when the step begins.
-// Components neither prescribed nor loaded by an obstacle force are held where they are.
+// Prescribed displacement components of a rigid obstacle (absent: not prescribed), and in
+// plane problems its angle, ramped over the step like Dirichlet values from where the
+// obstacle is when the step begins. Translations neither prescribed nor loaded by an obstacle
+// force are held where they are; the angle likewise, unless the load has a moment.
 struct ObstacleMotion {
   std::string pair;
   std::optional<Real> u[3];
+  std::optional<Real> rotation;  // plane problems: the angle about z (radians, counter-clockwise)
 };
 
 struct Step {

@@ -401,16 +401,27 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         if (b.has("set")) b.fail("a boundary entry has either 'set' or 'contact'");
         ObstacleMotion om;
         om.pair = rigid_pair_named(b.child("contact"), m);
-        if (!b.has("u")) b.fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free)");
-        Node u = b.child("u");
-        u.expect_list();
-        if (static_cast<int>(u.node.size()) != dim) u.fail("expected " + std::to_string(dim) + " components");
-        for (int c = 0; c < dim; ++c)
-          if (!u.at(c).node.IsNull()) om.u[c] = u.at(c).as_number();
+        if (!b.has("u") && !b.has("rotation"))
+          b.fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free) and turns by 'rotation'");
+        if (b.has("u")) {
+          Node u = b.child("u");
+          u.expect_list();
+          if (static_cast<int>(u.node.size()) != dim) u.fail("expected " + std::to_string(dim) + " components");
+          for (int c = 0; c < dim; ++c)
+            if (!u.at(c).node.IsNull()) om.u[c] = u.at(c).as_number();
+        }
+        if (b.has("rotation")) {
+          if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
+            b.child("rotation").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
+          om.rotation = b.child("rotation").as_number();
+        }
+        for (const char* k : {"ux", "uy", "uz"})
+          if (b.has(k)) b.child(k).fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free)");
         step.obstacles.push_back(om);
         continue;
       }
       if (!b.has("set")) b.fail("a boundary entry needs 'set' (or 'contact' for a rigid obstacle)");
+      if (b.has("rotation")) b.child("rotation").fail("'rotation' turns a rigid obstacle (with 'contact')");
       const std::string set = b.text(bs, "set");
       if (!m.mesh.node_sets.count(set))
         b.child("set").fail("no node set named '" + set + "' in the mesh (sets: " + m.mesh.node_set_names() + ")");
@@ -450,12 +461,22 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       load.where = l.where();
       int kinds = 0;
       for (auto k : {"force", "traction", "pressure", "body_force", "centrifugal"}) kinds += l.has(k);
-      if (kinds != 1) l.fail("a load has exactly one of force, traction, pressure, body_force, centrifugal");
+      const bool moment_only = l.has("contact") && l.has("moment") && kinds == 0;
+      if (kinds != 1 && !moment_only)
+        l.fail("a load has exactly one of force, traction, pressure, body_force, centrifugal");
+      if (l.has("moment") && !l.has("contact")) l.child("moment").fail("a moment loads a rigid obstacle ('contact')");
       if (l.has("contact")) {
-        if (!l.has("force") || l.has("set") || l.has("body")) l.fail("a rigid obstacle is loaded by 'force: [...]' alone");
+        if ((!l.has("force") && !l.has("moment")) || kinds > 1 || l.has("set") || l.has("body"))
+          l.fail("a rigid obstacle is loaded by 'force: [...]' and/or 'moment' alone");
         load.kind = LoadKind::obstacle_force;
         load.set = rigid_pair_named(l.child("contact"), m);
-        load.vector = l.child("force").vector(dim);
+        load.obstacle_translations = l.has("force");
+        if (l.has("force")) load.vector = l.child("force").vector(dim);
+        if (l.has("moment")) {
+          if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
+            l.child("moment").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
+          load.moment = l.child("moment").as_number();
+        }
       } else if (l.has("body_force") || l.has("centrifugal")) {
         const char* key = l.has("body_force") ? "body_force" : "centrifugal";
         if (!l.has("body")) l.fail(std::string(key) + " needs 'body: <body name>'");

@@ -1217,8 +1217,12 @@ void Translator::translate() {
       const std::string disc = p.type == "NODE TO SURFACE"      ? "node_to_segment"
                                : p.type == "SURFACE TO SURFACE" ? "segment_to_segment"
                                                                 : "mortar";
-      std::string text = "  - {name: " + q(p.slave + "-" + p.master) + ", slave: " + q(p.slave) +
-                         ", master: " + q(p.master) + ", discretization: " + disc;
+      // The same surface on both sides: self-contact.
+      std::string text = p.slave == p.master
+                             ? "  - {name: " + q(p.slave + "-self") + ", surface: " + q(p.slave) + ", self: true" +
+                                   ", discretization: " + disc
+                             : "  - {name: " + q(p.slave + "-" + p.master) + ", slave: " + q(p.slave) +
+                                   ", master: " + q(p.master) + ", discretization: " + disc;
       text += in.behavior == "HARD" ? ", enforcement: {method: lagrange}"
                                     : ", enforcement: {method: penalty, penalty: " + num(in.K) + "}";
       if (in.mu > 0) {

@@ -268,7 +268,10 @@ void register_deck_sections(Registry& r) {
           opt(text("u", "all components", std::nullopt, ParamKind::vector)),
           opt(text("ux", "x (or r) component", std::nullopt, ParamKind::any)),
           opt(text("uy", "y (or z) component", std::nullopt, ParamKind::any)),
-          opt(text("uz", "z component (3D)", std::nullopt, ParamKind::any))}});
+          opt(text("uz", "z component (3D)", std::nullopt, ParamKind::any)),
+          opt(number("rotation", "with contact, in plane strain and plane stress: the angle (radians, counter-clockwise) "
+                                 "the rigid obstacle turns by about its point (a plane's point, a cylinder's centre)",
+                     std::nullopt))}});
   r.add({"deck", "load", "A load, ramped from its value at the end of the previous step: exactly one of force "
                          "(total force on a node set, shared equally by its nodes), traction (per unit reference area "
                          "of a facet set), pressure (on a facet set, positive in compression, follower in finite "
@@ -277,6 +280,8 @@ void register_deck_sections(Registry& r) {
          {opt(text("set", "node set or facet set", std::nullopt)), opt(text("body", "body name (body_force)", std::nullopt)),
           opt(text("contact", "instead of set: a contact pair whose rigid obstacle the force pushes", std::nullopt)),
           opt(text("force", "total force vector", std::nullopt, ParamKind::vector)),
+          opt(number("moment", "with contact, in plane strain and plane stress: the moment about z on the rigid "
+                               "obstacle (about its point; its angle is then free)", std::nullopt)),
           opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
           opt(number("pressure", "pressure", std::nullopt)),
           opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector)),

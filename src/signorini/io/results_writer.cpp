@@ -281,6 +281,11 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
       const Vec3 r = a.obstacle_reaction(*c);
       csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
                           rec.time, rec.fraction, c->settings().name, r(0), r(1), r(2));
+      // A turning obstacle (plane problems): the moment about z that holds or turns it, as a
+      // vector along z.
+      if (c->num_obstacle_dofs() > model_.settings.spatial_dim())
+        csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle_moment:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1,
+                            rec.increment, rec.time, rec.fraction, c->settings().name, 0.0, 0.0, a.obstacle_moment(*c));
     }
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   write_contact_csv(a, rec);

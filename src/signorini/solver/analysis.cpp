@@ -231,9 +231,13 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
         break;
       }
       case LoadKind::obstacle_force:
-        for (auto& c : contacts_)
-          if (c->settings().name == l.set && c->rigid())
-            for (int i = 0; i < c->num_obstacle_dofs(); ++i) fext(c->obstacle_dofs() + i) += scale * l.vector(i);
+        for (auto& c : contacts_) {
+          if (c->settings().name != l.set || !c->rigid()) continue;
+          const int sd = model_.settings.spatial_dim();
+          if (l.obstacle_translations)
+            for (int i = 0; i < sd; ++i) fext(c->obstacle_dofs() + i) += scale * l.vector(i);
+          if (l.moment && c->num_obstacle_dofs() > sd) fext(c->obstacle_dofs() + sd) += scale * *l.moment;
+        }
         break;
     }
   }
@@ -362,17 +366,24 @@ void Analysis::begin_step(int s) {
     }
   }
   current_loads_ = &step.loads;
-  // Rigid obstacles: each component prescribed, loaded by a force, or held where it is.
+  // Rigid obstacles: each component prescribed, loaded by a force, or held where it is; the
+  // angle (plane problems: the unknown after the translations) prescribed, loaded by a
+  // moment, or held.
+  const int sdim = model_.settings.spatial_dim();
   for (auto& c : contacts_) {
     if (!c->rigid()) continue;
-    bool loaded = false;
-    for (const auto& l : step.loads) loaded = loaded || (l.kind == LoadKind::obstacle_force && l.set == c->settings().name);
+    bool forced = false, turned = false;
+    for (const auto& l : step.loads)
+      if (l.kind == LoadKind::obstacle_force && l.set == c->settings().name) {
+        forced = forced || l.obstacle_translations;
+        turned = turned || l.moment.has_value();
+      }
     for (int i = 0; i < c->num_obstacle_dofs(); ++i) {
       const Index dof = c->obstacle_dofs() + i;
       std::optional<Real> value;
       for (const auto& om : step.obstacles)
-        if (om.pair == c->settings().name && om.u[i]) value = om.u[i];
-      if (!value && loaded) continue;  // free, driven by the force
+        if (om.pair == c->settings().name && (i < sdim ? om.u[i] : om.rotation)) value = i < sdim ? om.u[i] : om.rotation;
+      if (!value && (i < sdim ? forced : turned)) continue;  // free, driven by the force or the moment
       prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
       constrained_[dof] = 1;
     }
@@ -934,14 +945,26 @@ Vec3 Analysis::reaction_sum(const std::string& node_set) const {
 
 Vec3 Analysis::obstacle_reaction(const ContactInterface& c) const {
   Vec3 r = Vec3::Zero();
-  for (int i = 0; i < c.num_obstacle_dofs(); ++i) r(i) = reactions_(c.obstacle_dofs() + i);
+  for (int i = 0; i < std::min<Index>(c.num_obstacle_dofs(), model_.settings.spatial_dim()); ++i)
+    r(i) = reactions_(c.obstacle_dofs() + i);
   return r;
 }
 
 Vec3 Analysis::obstacle_displacement(const ContactInterface& c) const {
   Vec3 r = Vec3::Zero();
-  for (int i = 0; i < c.num_obstacle_dofs(); ++i) r(i) = u_(c.obstacle_dofs() + i);
+  for (int i = 0; i < std::min<Index>(c.num_obstacle_dofs(), model_.settings.spatial_dim()); ++i)
+    r(i) = u_(c.obstacle_dofs() + i);
   return r;
+}
+
+Real Analysis::obstacle_moment(const ContactInterface& c) const {
+  const int sd = model_.settings.spatial_dim();
+  return c.num_obstacle_dofs() > sd ? reactions_(c.obstacle_dofs() + sd) : 0.0;
+}
+
+Real Analysis::obstacle_rotation(const ContactInterface& c) const {
+  const int sd = model_.settings.spatial_dim();
+  return c.num_obstacle_dofs() > sd ? u_(c.obstacle_dofs() + sd) : 0.0;
 }
 
 std::vector<std::string> Analysis::reaction_sets() const {

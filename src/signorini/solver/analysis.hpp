@@ -99,6 +99,10 @@ class Analysis {
   // Reaction on a rigid obstacle's prescribed or held components, and its displacement.
   Vec3 obstacle_reaction(const ContactInterface& c) const;
   Vec3 obstacle_displacement(const ContactInterface& c) const;
+  // A turning obstacle (plane problems): the reaction moment about z on its angle when the
+  // angle is prescribed or held, and the angle (0 for an obstacle that does not turn).
+  Real obstacle_moment(const ContactInterface& c) const;
+  Real obstacle_rotation(const ContactInterface& c) const;
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
   std::vector<std::string> reaction_sets() const;
 

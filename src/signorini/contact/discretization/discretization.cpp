@@ -354,6 +354,7 @@ class SelfNodeToSegment final : public NodeToSegment {
     // Cells about the size of a grown box (each box then spans a few cells per direction),
     // coarsened while there would be more than 8 per facet.
     Real cell = extent / static_cast<Real>(nf);
+    if (!(cell > 0)) cell = 1;  // every facet a point and d_max zero: one cell will do
     std::array<Index, 3> count{1, 1, 1};
     for (;;) {
       Real total = 1;
@@ -603,32 +604,47 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
 };
 
-// A rigid analytic obstacle, displaced by its own dim unknowns: no search, no master nodes.
+// A rigid analytic obstacle, moved by its own unknowns: dim translations and, in plane
+// problems, the angle it turns by about its point (its centre). No search, no master nodes.
 class RigidObstacleContact final : public Discretization {
  public:
-  RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim) : ob_(ob), slave_(slave), dim_(dim) {}
+  RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim, bool rotates)
+      : ob_(ob), slave_(slave), dim_(dim), rotates_(rotates) {}
   std::string name() const override { return "rigid_obstacle"; }
   void detect(const std::vector<Vec3>&, Real, const std::vector<char>&) override {}
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override { nodes.assign(1, slave_.nodes[j]); }
-  int num_extra_dofs() const override { return dim_; }
+  int num_extra_dofs() const override { return dim_ + (rotates_ ? 1 : 0); }
   void set_extra_dofs(Index first) override { first_ = first; }
   Index extra_dofs() const override { return first_; }
   void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const override {
-    rigid_obstacle_constraints(ob_, offset(z), first_, slave_, x, dim_, std::max(dmax, 1e-300), out);
+    rigid_obstacle_constraints(ob_, offset(z), angle(z), first_, rotates_, slave_, x, dim_, std::max(dmax, 1e-300), out);
   }
   SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const override {
-    // The closest point of the obstacle, in the obstacle's frame (it moves with its offset).
+    // The closest point of the obstacle, in the obstacle's frame: relative to its point (the
+    // centre it turns about) and turned back (it moves and turns with the obstacle).
     SlipOrigin o;
     o.valid = c.kind != ConstraintKind::none;
-    o.point = x_s - offset(z) - c.gap * c.normal;
+    o.point = x_s - c.gap * c.normal - ob_.point - offset(z);
+    if (rotates_) o.point = rotation_z(-angle(z)) * o.point;
     return o;
   }
   void add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX& z, Constraint& c) const override {
-    c.slip = x[c.slave] - (o.point + offset(z));
+    // d = x_s - (p0 + offset + R(theta) q): dd/dtheta = -J R q, d2d/dtheta2 = R q.
+    const Vec3 rq = rotates_ ? Vec3(rotation_z(angle(z)) * o.point) : o.point;
+    c.slip = x[c.slave] - (ob_.point + offset(z) + rq);
     c.slip_jacobian.setZero(dim_, c.grad.size());
+    const Index first = static_cast<Index>(c.nodes.size()) * dim_;
     for (int d = 0; d < dim_; ++d) {
       c.slip_jacobian(d, d) = 1;
-      if (first_ >= 0) c.slip_jacobian(d, static_cast<Index>(c.nodes.size()) * dim_ + d) = -1;
+      if (first_ >= 0) c.slip_jacobian(d, first + d) = -1;
+    }
+    c.slip_hessian.clear();
+    if (first_ >= 0 && rotates_) {
+      const Index t = first + dim_;
+      c.slip_jacobian(0, t) = rq.y();
+      c.slip_jacobian(1, t) = -rq.x();
+      c.slip_hessian.assign(dim_, MatX::Zero(c.grad.size(), c.grad.size()));
+      for (int d = 0; d < dim_; ++d) c.slip_hessian[d](t, t) = rq(d);
     }
     c.has_slip = true;
   }
@@ -640,9 +656,11 @@ class RigidObstacleContact final : public Discretization {
       for (int d = 0; d < dim_; ++d) o(d) = z(first_ + d);
     return o;
   }
+  Real angle(const VecX& z) const { return first_ >= 0 && rotates_ ? z(first_ + dim_) : 0.0; }
   RigidObstacle ob_;
   SlaveSurface slave_;
   int dim_;
+  bool rotates_;
   Index first_ = -1;
 };
 
@@ -651,7 +669,9 @@ class RigidObstacleContact final : public Discretization {
 std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
                                                     const SlaveSurface& slave, const AnalysisSettings& as) {
   const int dim = as.spatial_dim();
-  if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim);
+  // Plane problems: the obstacle turns about z (axisymmetry: only along the axis; 3D: not yet).
+  const bool rotates = as.dimension == Dimension::plane_strain || as.dimension == Dimension::plane_stress;
+  if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim, rotates);
   if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);

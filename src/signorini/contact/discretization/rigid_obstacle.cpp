@@ -1,10 +1,21 @@
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 
+#include <cmath>
+
 namespace signorini {
 
-void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Index obstacle_dofs,
-                                const SlaveSurface& slave, const std::vector<Vec3>& x, int dim, Real max_distance,
-                                ConstraintSet& out) {
+Mat3 rotation_z(Real theta) {
+  Mat3 R = Mat3::Identity();
+  R(0, 0) = R(1, 1) = std::cos(theta);
+  R(1, 0) = std::sin(theta);
+  R(0, 1) = -R(1, 0);
+  return R;
+}
+
+void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Real theta, Index obstacle_dofs,
+                                bool rotates, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
+                                Real max_distance, ConstraintSet& out) {
+  const Vec3 plane_normal = rotates ? Vec3(rotation_z(theta) * ob.normal) : ob.normal;
   const Index ns = static_cast<Index>(slave.nodes.size());
   out = open_constraints(slave);
   for (Index j = 0; j < ns; ++j) {
@@ -13,8 +24,8 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Ind
     const Vec3 p = x[c.slave];
     Mat3 H = Mat3::Zero();
     if (ob.shape == "plane") {
-      c.normal = ob.normal;
-      c.gap = (p - (ob.point + offset)).dot(ob.normal);
+      c.normal = plane_normal;
+      c.gap = (p - (ob.point + offset)).dot(plane_normal);
     } else {
       Vec3 d = p - (ob.point + offset);
       Mat3 P = Mat3::Identity();  // projector on the plane normal to the axis (cylinder in 3D)
@@ -36,8 +47,8 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Ind
     c.kind = ConstraintKind::node;
     c.facet = -1;
     c.nodes = {c.slave};
-    const int m = obstacle_dofs >= 0 ? 2 * dim : dim;
-    c.grad.resize(m);
+    const int m = obstacle_dofs >= 0 ? 2 * dim + (rotates ? 1 : 0) : dim;
+    c.grad.setZero(m);
     c.hess.setZero(m, m);
     for (int a = 0; a < dim; ++a) {
       c.grad(a) = c.normal(a);
@@ -52,6 +63,20 @@ void rigid_obstacle_constraints(const RigidObstacle& ob, const Vec3& offset, Ind
           c.hess(a, dim + b) = -H(a, b);
           c.hess(dim + a, b) = -H(a, b);
           c.hess(dim + a, dim + b) = H(a, b);
+        }
+      }
+    }
+    if (obstacle_dofs >= 0 && rotates) {
+      const Index t = 2 * dim;  // the angle's column
+      c.extra_dofs.push_back(obstacle_dofs + dim);
+      if (ob.shape == "plane") {
+        const Vec3 jn(-c.normal.y(), c.normal.x(), 0);
+        const Vec3 d = p - (ob.point + offset);
+        c.grad(t) = d.dot(jn);
+        c.hess(t, t) = -c.gap;
+        for (int a = 0; a < dim; ++a) {
+          c.hess(a, t) = c.hess(t, a) = jn(a);
+          c.hess(dim + a, t) = c.hess(t, dim + a) = -jn(a);
         }
       }
     }

@@ -167,6 +167,7 @@ class Penalty : public Enforcement {
     const Real db = in.friction->bound_derivative(p);
     if (db != 0) dt -= (db * eps) * rm.d_bound.head(dim) * c.grad.transpose();
     *k += c.weight * D.transpose() * dt;
+    for (size_t d = 0; d < c.slip_hessian.size(); ++d) *k += (c.weight * rm.traction(d)) * c.slip_hessian[d];
   }
 };
 
@@ -347,6 +348,7 @@ class LagrangeMultipliers final : public Enforcement {
     const MatX A = rm.d_trial.topLeftCorner(dim, dim);
     const VecX b = rm.d_bound.head(dim);
     k->block(0, m + 1, m, dim) = w * D.transpose();
+    for (size_t d = 0; d < c.slip_hessian.size(); ++d) k->topLeftCorner(m, m) += (w * lt(d)) * c.slip_hessian[d];
     k->block(m + 1, 0, dim, m) = keep * (-w * A * trial_derivative(c, dim, v, ct) + (w * db * c0) * b * c.grad.transpose());
     k->block(m + 1, m, dim, 1) = keep * (-w * db * b);
     k->block(m + 1, m + 1, dim, dim) = keep * (w * (MatX::Identity(dim, dim) - A * P)) + w * Q;
