@@ -144,6 +144,7 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
     cs.obstacle.shape = "cylinder";
     cs.obstacle.point = Vec3(0.5, 1.5, 0);
     cs.obstacle.radius = 1.0;
+    cs.turns = true;
     ContactInterface ci(cs, mesh, as, 100.0, false);
     std::vector<const ElementBlock*> cells;
     for (auto& b : mesh.regions["domain"]) cells.push_back(&b);
@@ -298,6 +299,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
       cs.obstacle.shape = "cylinder";
       cs.obstacle.point = Vec3(0.5, 1.5, 0);
       cs.obstacle.radius = 1.0;
+      cs.turns = true;
     } else {
       cs.master = fc.three_d ? "lower_zmax" : "lower_ymax";
       cs.slave = fc.three_d ? "upper_zmin" : "upper_ymin";

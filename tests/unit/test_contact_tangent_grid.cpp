@@ -81,6 +81,7 @@ void check_combination(const ContactCombination& c) {
     cs.slave = three ? "zmax" : "ymax";
     RigidObstacle& ob = cs.obstacle;
     ob.shape = c.discretization.substr(6);
+    cs.turns = true;  // plane problems: the angle is an unknown
     if (ob.shape == "plane") {
       ob.point = three ? Vec3(0, 0, 0.505) : Vec3(0, 0.505, 0);
       ob.normal = -Vec3::Unit(vert);

@@ -68,6 +68,29 @@ TEST(Friction, BlockOnPlaneSticksBelowMuNAndSlidesAbove) {
   }
 }
 
+// The same block above mu N on a floor that turns (its angle an unknown, held at 0): the
+// block slides away and the analysis gives up, as on a fixed floor. The floor's moment grows
+// with the lever arm of the sliding block without bound; it must not enter the force scale of
+// the convergence test (it did once: the slide "converged" at a displacement of 1e11).
+TEST(Friction, BlockSlidesOffATurningFloorAboveMuN) {
+  const Real mu = 0.3, N = 10, T = 1.05 * mu * N;
+  const std::string step = "  - name: push\n"
+                           "    increments: {initial: 0.1, max: 0.1, min: 1e-4}\n"
+                           "    boundary:\n"
+                           "      - {contact: floor, rotation: 0}\n"
+                           "    loads:\n"
+                           "      - {set: Top, pressure: 10}\n"
+                           "      - {set: Top, traction: [" + std::to_string(T) + ", 0]}\n";
+  std::string deck = block_deck(step);
+  deck.replace(deck.find("{method: penalty}"), 17, "{method: lagrange}");
+  test::HertzRun r = test::run_deck_text(deck, "friction_block_turning");
+  const auto& last = r.summary.increments.back();
+  const Real reached = last.step == 1 ? last.fraction * T : 0.0;
+  EXPECT_FALSE(r.summary.completed) << "a load above mu N cannot be held";
+  EXPECT_LE(reached, mu * N * (1 + 1e-9));
+  EXPECT_GT(reached, 0.99 * mu * N) << "the onset of sliding is at mu N";
+}
+
 TEST(Friction, AugmentedLagrangianSticksWithoutElasticSlip) {
   // The same block with the augmented Lagrangian at T = 0.95 mu N: the friction force equals
   // T, and the Uzawa updates remove the penalty's elastic slip of the sticking nodes (within

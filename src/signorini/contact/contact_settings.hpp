@@ -22,6 +22,8 @@ struct ContactPairSettings {
   std::string master;                             // facet set (empty for a rigid obstacle)
   bool rigid = false;
   RigidObstacle obstacle;
+  bool turns = false;                             // rigid obstacle (plane problems): its angle is an unknown (a step
+                                                  // prescribes it or loads it by a moment)
   std::string slave;                              // facet set
   bool self = false;                              // self-contact: master and slave are one surface
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node

@@ -340,6 +340,12 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
 
 std::string component_name(int c) { return std::string(1, "xyz"[c]); }
 
+// A rigid obstacle whose angle some step prescribes or loads: it turns (one more unknown).
+void mark_turning(const std::string& pair, Model& m) {
+  for (auto& cp : m.contacts)
+    if (cp.name == pair) cp.turns = true;
+}
+
 // The contact pair with a rigid obstacle named by the node's value.
 std::string rigid_pair_named(const Node& n, const Model& m) {
   const std::string name = n.as_string();
@@ -414,6 +420,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
           if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
             b.child("rotation").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
           om.rotation = b.child("rotation").as_number();
+          mark_turning(om.pair, m);
         }
         for (const char* k : {"ux", "uy", "uz"})
           if (b.has(k)) b.child(k).fail("a rigid obstacle moves by 'u: [...]' (a ~ leaves a component free)");
@@ -476,6 +483,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
           if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
             l.child("moment").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
           load.moment = l.child("moment").as_number();
+          mark_turning(load.set, m);
         }
       } else if (l.has("body_force") || l.has("centrifugal")) {
         const char* key = l.has("body_force") ? "body_force" : "centrifugal";

@@ -122,6 +122,17 @@ Analysis::Analysis(Model& model)
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
+  // A turning obstacle's angle: its row is a moment, measured in the norms as a force at the
+  // obstacle's radius (a plane: at its farthest slave node), so that a distant contact point
+  // does not inflate the force scale.
+  const int sdim = model.settings.spatial_dim();
+  for (const auto& c : contacts_) {
+    if (!c->rigid() || c->num_obstacle_dofs() <= sdim) continue;
+    const RigidObstacle& ob = c->settings().obstacle;
+    Real L = ob.radius;
+    for (Index n : c->slave().nodes) L = std::max(L, (model.mesh.nodes[n] - ob.point).norm());
+    moment_rows_.emplace_back(c->obstacle_dofs() + sdim, L > 0 ? 1 / L : 1.0);
+  }
   u_ = VecX::Zero(unknowns);
   u_converged_ = u_;
   reactions_ = u_;
@@ -310,7 +321,9 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
-  const Real scale = std::max({fint.norm(), fext.norm(), fc.norm(), lift_force});
+  // The force scale leaves the moment rows out: a moment's size follows its lever arm, which
+  // a body sliding away along a turning obstacle makes as large as it likes.
+  const Real scale = std::max({force_norm(fint, false), force_norm(fext, false), force_norm(fc, false), lift_force});
   stab_ratio_ = scale > 0 ? stab_force / scale : 0;
   return scale;
 }
@@ -566,7 +579,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
     bool ok = true;
     try {
       new_scale = evaluate(lambda, true, Rtrial);
-      new_norm = Rtrial.norm();
+      new_norm = force_norm(Rtrial);
       ok = std::isfinite(new_norm);
     } catch (const SolverError&) {
       ok = false;  // e.g. an element turned inside out: shorten the step
@@ -661,7 +674,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     NewtonState st;
     st.augmentations.assign(contacts_.size(), 0);
     st.scale = evaluate(lambda, true, R);
-    st.rnorm = R.norm();
+    st.rnorm = force_norm(R);
     // A floor under the force scale: the force that 1e-3 of the largest displacement would
     // take across one element (mean stiffness diagonal). Without it, a body moved rigidly by
     // prescribed displacements before it touches anything has only round-off forces, and
@@ -726,7 +739,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
             // Newton goes on from here (a new cycle: its own energy reference).
             st.cycle_start = it + 1;
             st.scale = evaluate(lambda, true, R);
-            st.rnorm = R.norm();
+            st.rnorm = force_norm(R);
             rec.residuals.push_back(st.scale > 0 ? st.rnorm / st.scale : st.rnorm);
             continue;
         }
@@ -941,6 +954,14 @@ Vec3 Analysis::reaction_sum(const std::string& node_set) const {
       r(i) += reactions_(d);
     }
   return r;
+}
+
+Real Analysis::force_norm(const VecX& v, bool moments) const {
+  if (moment_rows_.empty()) return v.norm();
+  Real s = v.squaredNorm();
+  for (auto [i, w] : moment_rows_)
+    if (i < v.size()) s += ((moments ? w * w : 0.0) - 1) * v(i) * v(i);
+  return std::sqrt(std::max(s, Real(0)));
 }
 
 Vec3 Analysis::obstacle_reaction(const ContactInterface& c) const {

@@ -115,6 +115,10 @@ class Analysis {
   // Residual (fext - fint, zero at constrained DOFs) at u for the step fraction lambda;
   // assembles the tangent too if asked. Returns the force scale for the relative test.
   Real evaluate(Real lambda, bool tangent, VecX& residual);
+  // The Euclidean norm with each turning obstacle's moment row divided by its length
+  // (moment_rows_): forces and moments in one measure; without `moments`, those rows left out.
+  Real force_norm(const VecX& v, bool moments = true) const;
+  std::vector<std::pair<Index, Real>> moment_rows_;  // (unknown, 1 / length)
   Real add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();

@@ -669,8 +669,9 @@ class RigidObstacleContact final : public Discretization {
 std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
                                                     const SlaveSurface& slave, const AnalysisSettings& as) {
   const int dim = as.spatial_dim();
-  // Plane problems: the obstacle turns about z (axisymmetry: only along the axis; 3D: not yet).
-  const bool rotates = as.dimension == Dimension::plane_strain || as.dimension == Dimension::plane_stress;
+  // Plane problems: the obstacle turns about z when a step turns it (axisymmetry: it only moves
+  // along the axis; 3D: not yet).
+  const bool rotates = s.turns && (as.dimension == Dimension::plane_strain || as.dimension == Dimension::plane_stress);
   if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim, rotates);
   if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
