@@ -184,6 +184,94 @@ TEST(ContactTangent, RigidObstacleWithItsOwnUnknowns) {
   }
 }
 
+// A meshed rigid body that turns (plane strain): the lower block rigid, its nodes sharing the
+// DOFs of the body and turning by an angle of its own about (0.5, 0); the contact residual's
+// tangent against central differences in every unknown (the elastic block's nodes, the rigid
+// body's translation and angle, the multipliers), frictionless and with Coulomb friction
+// (sticking and slipping nodes), for each method. The angle enters by the chain rule
+// (ContactInterface::add_rigid_rotations), friction's slip origin on the rigid body too.
+TEST(ContactTangent, TurningRigidMasterBody) {
+  for (const char* friction : {"none", "coulomb"})
+    for (const char* method : {"penalty", "lagrange", "augmented_lagrangian"}) {
+      SCOPED_TRACE(std::string(method) + ", " + friction);
+      Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.49, 0));
+      orient_facets(mesh);
+      AnalysisSettings as;
+      std::vector<const ElementBlock*> cells;
+      for (auto& [n, blocks] : mesh.regions)
+        for (auto& b : blocks) cells.push_back(&b);
+      const std::vector<Index>& rigid = mesh.node_sets.at("lower_domain");
+      DofMap dofs(mesh.num_nodes(), 2, cells, {rigid});
+      ContactPairSettings cs;
+      cs.name = "c";
+      cs.method = method;
+      cs.master = "lower_ymax";
+      cs.slave = "upper_ymin";
+      cs.friction = friction;
+      cs.friction_parameter = 0.3;
+      cs.tangential_penalty = 2000;
+      ContactInterface ci(cs, mesh, as, 100.0, false);
+      const Index nd = dofs.num_dofs(), nm = ci.num_multipliers(), nz = nd + nm + 1;
+      RigidRotations rr;
+      rr.body_of_node.assign(mesh.num_nodes(), -1);
+      for (Index n : rigid) rr.body_of_node[n] = 0;
+      rr.dof = {nd + nm};
+      rr.ref = {Vec3(0.5, 0, 0)};
+      rr.reference = &mesh.nodes;
+      ci.set_multiplier_offset(nd);
+      ci.set_rigid_rotations(&rr);
+      auto positions = [&](const VecX& z) {
+        std::vector<Vec3> x = test::cells_of_positions(mesh, dofs, z);
+        const Real th = z(nz - 1);
+        for (Index n : rigid) {
+          const Vec3 X = mesh.nodes[n] - rr.ref[0];
+          x[n] = rr.ref[0] + Vec3(z(dofs.dof(n, 0)), z(dofs.dof(n, 1)), 0) +
+                 Vec3(std::cos(th) * X.x() - std::sin(th) * X.y(), std::sin(th) * X.x() + std::cos(th) * X.y(), 0);
+        }
+        return x;
+      };
+      // Start of the increment: the upper block pressed in, the rigid body turned; then the
+      // upper block moves sideways and the rigid body turns on.
+      VecX z0 = VecX::Zero(nz);
+      for (Index n : mesh.node_sets.at("upper_domain"))
+        z0(dofs.dof(n, 1)) = -(0.006 + 0.006 * std::sin(7 * mesh.nodes[n](0)));
+      z0(dofs.dof(rigid[0], 0)) = 0.003;
+      z0(nz - 1) = 0.01;
+      for (Index j = 0; j < nm; ++j) z0(nd + j) = 0.5 * (j % 3) - 0.2;
+      ci.detect(positions(z0), 0.1);
+      ci.begin_increment(positions(z0), z0);
+      VecX z = z0;
+      for (Index n : mesh.node_sets.at("upper_domain")) z(dofs.dof(n, 0)) += 0.003 * std::cos(5 * mesh.nodes[n](0)) + 0.001;
+      z(nz - 1) = 0.016;
+      auto residual = [&](const VecX& zz, GlobalMatrix* K) {
+        VecX r = VecX::Zero(nz);
+        ci.assemble(positions(zz), zz, dofs, r, K);
+        return r;
+      };
+      if (std::string(method) == "augmented_lagrangian") {
+        residual(z, nullptr);
+        Real pen = 0;
+        ci.augment(positions(z), z, pen);
+        for (Index n : mesh.node_sets.at("upper_domain")) z(dofs.dof(n, 1)) -= 0.001;
+      }
+      DenseMatrix K(nz);
+      const VecX r0 = residual(z, &K);
+      Index closed = 0, open = 0, slip = 0;
+      for (size_t j = 0; j < ci.constraints().size(); ++j) {
+        if (ci.constraints()[j].kind == ConstraintKind::none) continue;
+        ci.state().active[j] ? ++closed : ++open;
+        if (ci.state().active[j] && ci.frictional()) slip += ci.state().slip[j];
+      }
+      ASSERT_GT(closed, 0);
+      EXPECT_NE(r0(nz - 1), 0) << "the contact forces have a moment about the turning point";
+      const Real err = test::central_difference_error([&](const VecX& zz) { return residual(zz, nullptr); }, z, K.k, 1e-7);
+      std::printf("%s, %s: %lld closed (%lld slip), %lld open; tangent error %.2e of max |K| %.2e\n", method, friction,
+                  (long long)closed, (long long)slip, (long long)open, err / K.k.cwiseAbs().maxCoeff(),
+                  K.k.cwiseAbs().maxCoeff());
+      EXPECT_LT(err, 1e-6 * K.k.cwiseAbs().maxCoeff());
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // Friction (penalty): the return map, and the frictional residual's tangent against central
 // differences with sticking and slipping nodes mixed, for node-to-segment (2D, 3D),

@@ -423,6 +423,32 @@ TEST(Deck, RigidBodyErrors) {
   EXPECT_MESSAGE(m, "r_bool.yaml:7", "bodies[0].rigid");
 }
 
+// A meshed rigid body turned about its reference node: rotation on the reference set in a
+// boundary entry, moment on it in a load (plane problems).
+TEST(Deck, TurningRigidBodyEntries) {
+  const std::string rigid = replace(kGood, "{name: plate, region: Square, material: steel}",
+                                    "{name: plate, region: Square, rigid: true, reference: Left}");
+  const std::string good = replace(rigid, "      - {set: Left, ux: 0}\n", "      - {set: Left, u: [0, 0], rotation: 0.1}\n");
+  ASSERT_NE(good, rigid);
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("rb_turn", good), r);
+  EXPECT_TRUE(m.bodies[0]->turns());
+  ASSERT_EQ(m.steps[0].body_turns.size(), 1u);
+  EXPECT_EQ(m.steps[0].body_turns[0].body, "plate");
+  EXPECT_DOUBLE_EQ(m.steps[0].body_turns[0].angle, 0.1);
+  m = read_deck(write_deck("rb_moment", replace(rigid, "    loads:\n", "    loads:\n      - {set: Left, moment: 5}\n")), r);
+  EXPECT_TRUE(m.bodies[0]->turns());
+  EXPECT_EQ(m.steps[0].loads[0].kind, LoadKind::body_moment);
+  auto e = error_of("rb_notref", replace(good, "rotation: 0.1}", "rotation: 0.1}\n      - {set: Bottom, rotation: 1}"));
+  EXPECT_MESSAGE(e, "rb_notref.yaml:", "rotation", "no rigid body's reference set");
+  e = error_of("rb_axi", replace(good, "dimension: plane_strain", "dimension: axisymmetric"));
+  EXPECT_MESSAGE(e, "rb_axi.yaml:", "rotation", "plane strain and plane stress");
+  e = error_of("rb_moment_set", replace(rigid, "    loads:\n", "    loads:\n      - {set: Bottom, moment: 5}\n"));
+  EXPECT_MESSAGE(e, "rb_moment_set.yaml:", "set", "reference node set");
+  e = error_of("rb_moment_force", replace(rigid, "    loads:\n", "    loads:\n      - {set: Left, force: [1, 0], moment: 5}\n"));
+  EXPECT_MESSAGE(e, "rb_moment_force.yaml:", "moment");
+}
+
 TEST(Deck, J2PlasticityHardeningErrors) {
   const std::string j2 = "{model: j2_plasticity, E: 210e9, nu: 0.3, yield_stress: 240e6";
   const std::string good = replace(kGood, "{model: linear_elastic, E: 210e9, nu: 0.3}",

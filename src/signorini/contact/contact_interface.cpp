@@ -1,6 +1,7 @@
 #include "signorini/contact/contact_interface.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <istream>
 #include <limits>
 #include <ostream>
@@ -110,6 +111,8 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
     std::vector<Index> g;
     auto add_node = [&](Index n) {
       for (int d = 0; d < dim_; ++d) g.push_back(dofs.dof(n, d));
+      // A turning rigid body's angle couples with its nodes.
+      if (rotations_ && rotations_->body_of_node[n] >= 0) g.push_back(rotations_->dof[rotations_->body_of_node[n]]);
     };
     discretization_->coupled_nodes(j, nodes);
     for (Index n : nodes) add_node(n);
@@ -146,12 +149,78 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
 
 void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX& z) {
   discretization_->build(x, z, dmax_, constraints_);
-  if (!frictional()) return;
   for (size_t j = 0; j < constraints_.size(); ++j) {
     Constraint& c = constraints_[j];
-    c.has_slip = false;
-    if (c.kind != ConstraintKind::none && nodes_[j].origin.valid) discretization_->add_slip(nodes_[j].origin, x, z, c);
+    if (frictional()) {
+      c.has_slip = false;
+      if (c.kind != ConstraintKind::none && nodes_[j].origin.valid) discretization_->add_slip(nodes_[j].origin, x, z, c);
+    }
+    if (rotations_ && c.kind != ConstraintKind::none) add_rigid_rotations(c, z);
   }
+}
+
+void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
+  const int dim = dim_;
+  const RigidRotations& rr = *rotations_;
+  // The turning bodies among c's nodes, each a new column after the existing ones.
+  std::vector<int> bodies;
+  for (Index n : c.nodes)
+    if (rr.body_of_node[n] >= 0 && std::find(bodies.begin(), bodies.end(), rr.body_of_node[n]) == bodies.end())
+      bodies.push_back(rr.body_of_node[n]);
+  if (bodies.empty()) return;
+  const Index m = c.grad.size(), nb = static_cast<Index>(bodies.size());
+  // Per node k of a turning body: t_k = dx_k/dtheta and s_k = d2x_k/dtheta2.
+  std::vector<Vec3> t(c.nodes.size(), Vec3::Zero()), s2(c.nodes.size(), Vec3::Zero());
+  std::vector<Index> col(c.nodes.size(), -1);
+  for (size_t k = 0; k < c.nodes.size(); ++k) {
+    const int b = rr.body_of_node[c.nodes[k]];
+    if (b < 0) continue;
+    const Real theta = z(rr.dof[b]);
+    const Vec3 X = (*rr.reference)[c.nodes[k]] - rr.ref[b];
+    const Real cs = std::cos(theta), sn = std::sin(theta);
+    const Vec3 d(cs * X.x() - sn * X.y(), sn * X.x() + cs * X.y(), 0);
+    t[k] = Vec3(-d.y(), d.x(), 0);
+    s2[k] = -d;
+    col[k] = m + (std::find(bodies.begin(), bodies.end(), b) - bodies.begin());
+  }
+  // T: the old columns' derivative in each new column (m x nb).
+  MatX T = MatX::Zero(m, nb);
+  for (size_t k = 0; k < c.nodes.size(); ++k)
+    if (col[k] >= 0)
+      for (int a = 0; a < dim; ++a) T(static_cast<Index>(k) * dim + a, col[k] - m) = t[k](a);
+  auto second = [&](const VecX& g) {  // sum_k g_k . s_k per new column (the diagonal blocks)
+    VecX v = VecX::Zero(nb);
+    for (size_t k = 0; k < c.nodes.size(); ++k)
+      if (col[k] >= 0)
+        for (int a = 0; a < dim; ++a) v(col[k] - m) += g(static_cast<Index>(k) * dim + a) * s2[k](a);
+    return v;
+  };
+  const VecX g_theta = T.transpose() * c.grad;
+  const MatX HT = c.hess * T;
+  MatX H = MatX::Zero(m + nb, m + nb);
+  H.topLeftCorner(m, m) = c.hess;
+  H.topRightCorner(m, nb) = HT;
+  H.bottomLeftCorner(nb, m) = HT.transpose();
+  H.bottomRightCorner(nb, nb) = T.transpose() * HT;
+  H.bottomRightCorner(nb, nb).diagonal() += second(c.grad);
+  c.hess = std::move(H);
+  c.grad.conservativeResize(m + nb);
+  c.grad.tail(nb) = g_theta;
+  const MatX NT = c.normal_jacobian * T;
+  c.normal_jacobian.conservativeResize(Eigen::NoChange, m + nb);
+  c.normal_jacobian.rightCols(nb) = NT;
+  if (c.has_slip) {
+    const MatX DT = c.slip_jacobian * T;
+    std::vector<MatX> sh(dim, MatX::Zero(m + nb, m + nb));
+    for (int d = 0; d < dim; ++d) {
+      if (static_cast<int>(c.slip_hessian.size()) > d) sh[d].topLeftCorner(m, m) = c.slip_hessian[d];
+      sh[d].bottomRightCorner(nb, nb).diagonal() += second(c.slip_jacobian.row(d).transpose());
+    }
+    c.slip_hessian = std::move(sh);
+    c.slip_jacobian.conservativeResize(Eigen::NoChange, m + nb);
+    c.slip_jacobian.rightCols(nb) = DT;
+  }
+  for (int b : bodies) c.extra_dofs.push_back(rr.dof[b]);
 }
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,

@@ -18,6 +18,17 @@
 
 namespace signorini {
 
+// Meshed rigid bodies that turn (plane problems): a node of such a body sits at
+// x = X_ref + u_ref + R(theta) (X - X_ref), its translation the body's shared DOFs and theta an
+// unknown of its own. The contact constraints' derivatives in theta follow by the chain rule
+// (ContactInterface::add_rigid_rotations).
+struct RigidRotations {
+  std::vector<int> body_of_node;  // per mesh node: the turning body (index below), or -1
+  std::vector<Index> dof;         // per turning body: its angle's unknown
+  std::vector<Vec3> ref;          // per turning body: the point it turns about (reference configuration)
+  const std::vector<Vec3>* reference = nullptr;  // the mesh's reference coordinates
+};
+
 struct ContactStats {
   std::string label;
   Index active = 0;       // closed slave nodes
@@ -57,6 +68,8 @@ class ContactInterface {
   void set_obstacle_dofs(Index first) { discretization_->set_extra_dofs(first); }
   Index obstacle_dofs() const { return discretization_->extra_dofs(); }
 
+  // Meshed rigid bodies that turn (may be null: none); the analysis owns it.
+  void set_rigid_rotations(const RigidRotations* r) { rotations_ = r; }
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
   // DOF groups the constraints may couple (for the sparse pattern).
@@ -155,6 +168,11 @@ class ContactInterface {
   static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h
   Real friction_violation(size_t j) const;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
+  const RigidRotations* rotations_ = nullptr;
+  // Appends to c the angle of each turning rigid body among its nodes: grad, hess,
+  // normal_jacobian and (friction) slip_jacobian and slip_hessian by the chain rule through
+  // x_k(theta): dx/dtheta = J R d, d2x/dtheta2 = -R d, d = X_k - X_ref.
+  void add_rigid_rotations(Constraint& c, const VecX& z) const;
 };
 
 }  // namespace signorini

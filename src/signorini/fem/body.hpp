@@ -40,6 +40,10 @@ class Body {
   // mesh's cells allowed). Only for rigid bodies.
   const std::vector<Index>& reference_nodes() const { return reference_; }
   void set_reference_nodes(std::vector<Index> nodes) { reference_ = std::move(nodes); }
+  // A rigid body that turns (plane problems): its angle about its first reference node is an
+  // unknown of its own (set when a step prescribes the angle or loads it by a moment).
+  bool turns() const { return turns_; }
+  void set_turns(bool t) { turns_ = t; }
   Index num_cells() const;
 
   // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
@@ -82,6 +86,7 @@ class Body {
   AnalysisSettings settings_;
   std::vector<BlockCache> caches_;  // one per block
   std::vector<Index> reference_;
+  bool turns_ = false;
 };
 
 }  // namespace signorini

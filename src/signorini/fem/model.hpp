@@ -25,7 +25,7 @@ struct DirichletCondition {
   std::string where;  // deck location
 };
 
-enum class LoadKind { nodal_force, traction, pressure, body_force, centrifugal, obstacle_force };
+enum class LoadKind { nodal_force, traction, pressure, body_force, centrifugal, obstacle_force, body_moment };
 
 // A centrifugal body force rho omega^2 (X - o - ((X - o) . a) a) per unit reference volume
 // (a dead load on the reference configuration: small rotations of the body).
@@ -39,10 +39,10 @@ struct Centrifugal {
 // (loads not listed in a step are removed, ramped to zero).
 struct Load {
   LoadKind kind = LoadKind::nodal_force;
-  std::string set;        // node set, facet set, body name (body force) or contact pair (obstacle force)
+  std::string set;        // node set, facet set, body name (body force, body moment) or contact pair (obstacle force)
   Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
   Real pressure = 0;
-  std::optional<Real> moment;  // obstacle_force: the moment about z on a turning obstacle (plane problems)
+  std::optional<Real> moment;  // obstacle_force, body_moment: the moment about z (plane problems)
   bool obstacle_translations = true;  // obstacle_force: a force is given (its translations are then free)
   Centrifugal centrifugal;
   std::string where;
@@ -58,6 +58,13 @@ struct ObstacleMotion {
   std::optional<Real> rotation;  // plane problems: the angle about z (radians, counter-clockwise)
 };
 
+// The angle a meshed rigid body turns to about its reference node (plane problems), ramped
+// over the step from the angle it has when the step begins.
+struct BodyTurn {
+  std::string body;
+  Real angle = 0;
+};
+
 struct Step {
   std::string name;
   Real initial_increment = 1.0;  // fractions of the step
@@ -67,6 +74,7 @@ struct Step {
   Real duration = 1;             // the step's time (key `time`), for rate-dependent materials
   std::vector<DirichletCondition> dirichlet;
   std::vector<ObstacleMotion> obstacles;
+  std::vector<BodyTurn> body_turns;
   std::vector<Load> loads;
 };
 

@@ -340,6 +340,15 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
 
 std::string component_name(int c) { return std::string(1, "xyz"[c]); }
 
+// The rigid body whose reference node set is `set` (null: none).
+Body* rigid_body_of_reference(const std::string& set, Model& m) {
+  auto it = m.mesh.node_sets.find(set);
+  if (it == m.mesh.node_sets.end()) return nullptr;
+  for (auto& b : m.bodies)
+    if (b->rigid() && !b->reference_nodes().empty() && b->reference_nodes() == it->second) return b.get();
+  return nullptr;
+}
+
 // A rigid obstacle whose angle some step prescribes or loads: it turns (one more unknown).
 void mark_turning(const std::string& pair, Model& m) {
   for (auto& cp : m.contacts)
@@ -428,11 +437,22 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         continue;
       }
       if (!b.has("set")) b.fail("a boundary entry needs 'set' (or 'contact' for a rigid obstacle)");
-      if (b.has("rotation")) b.child("rotation").fail("'rotation' turns a rigid obstacle (with 'contact')");
       const std::string set = b.text(bs, "set");
       if (!m.mesh.node_sets.count(set))
         b.child("set").fail("no node set named '" + set + "' in the mesh (sets: " + m.mesh.node_set_names() + ")");
       bool any = false;
+      if (b.has("rotation")) {
+        // A meshed rigid body turned about its reference node.
+        Body* body = rigid_body_of_reference(set, m);
+        if (!body)
+          b.child("rotation").fail("'rotation' turns a rigid body (set: its reference node set) or a rigid obstacle "
+                                   "(contact: <pair>); '" + set + "' is no rigid body's reference set");
+        if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
+          b.child("rotation").fail("a rigid body turns in plane strain and plane stress only (so far)");
+        body->set_turns(true);
+        step.body_turns.push_back({body->name(), b.child("rotation").as_number()});
+        any = true;
+      }
       if (b.has("u")) {
         Node u = b.child("u");
         u.expect_list();
@@ -454,7 +474,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         step.dirichlet.push_back(d);
         any = true;
       }
-      if (!any) b.fail("a boundary condition needs u: [...] or ux/uy/uz");
+      if (!any) b.fail("a boundary condition needs u: [...], ux/uy/uz or (a rigid body's reference set) rotation");
     }
   }
   if (s.has("loads")) {
@@ -468,10 +488,26 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
       load.where = l.where();
       int kinds = 0;
       for (auto k : {"force", "traction", "pressure", "body_force", "centrifugal"}) kinds += l.has(k);
-      const bool moment_only = l.has("contact") && l.has("moment") && kinds == 0;
+      const bool moment_only = (l.has("contact") || l.has("set")) && l.has("moment") && kinds == 0;
       if (kinds != 1 && !moment_only)
         l.fail("a load has exactly one of force, traction, pressure, body_force, centrifugal");
-      if (l.has("moment") && !l.has("contact")) l.child("moment").fail("a moment loads a rigid obstacle ('contact')");
+      if (l.has("moment") && !l.has("contact") && !(l.has("set") && kinds == 0))
+        l.child("moment").fail("a moment loads a rigid obstacle ('contact') or a rigid body ('set': its reference node "
+                               "set, the moment alone)");
+      if (moment_only && l.has("set")) {
+        // A moment on a meshed rigid body, about its reference node.
+        const std::string set = l.child("set").as_string();
+        Body* body = rigid_body_of_reference(set, m);
+        if (!body) l.child("set").fail("a moment loads a rigid body through its reference node set; '" + set + "' is none");
+        if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
+          l.child("moment").fail("a rigid body turns in plane strain and plane stress only (so far)");
+        body->set_turns(true);
+        load.kind = LoadKind::body_moment;
+        load.set = body->name();
+        load.moment = l.child("moment").as_number();
+        step.loads.push_back(load);
+        continue;
+      }
       if (l.has("contact")) {
         if ((!l.has("force") && !l.has("moment")) || kinds > 1 || l.has("set") || l.has("body"))
           l.fail("a rigid obstacle is loaded by 'force: [...]' and/or 'moment' alone");

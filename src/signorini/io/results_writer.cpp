@@ -179,11 +179,14 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   d.points = &m.mesh.nodes;
   VtuField disp{"displacement", 3, std::vector<Real>(3 * m.mesh.num_nodes(), 0.0), {}};
   VtuField reac{"reaction_force", 3, std::vector<Real>(3 * m.mesh.num_nodes(), 0.0), {}};
+  // Displacements from the current positions (a turning rigid body's nodes are not their
+  // DOFs' translation alone).
+  const std::vector<Vec3> xcur = a.positions(a.displacement());
   for (Index n = 0; n < m.mesh.num_nodes(); ++n)
     for (int i = 0; i < dim; ++i) {
       const Index k = dofs.dof(n, i);
       if (k < 0) continue;
-      disp.values[3 * n + i] = a.displacement()(k);
+      disp.values[3 * n + i] = xcur[n](i) - m.mesh.nodes[n](i);
       reac.values[3 * n + i] = a.reactions()(k);
     }
   d.point_fields = {disp, reac};
@@ -287,6 +290,12 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
         csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle_moment:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1,
                             rec.increment, rec.time, rec.fraction, c->settings().name, 0.0, 0.0, a.obstacle_moment(*c));
     }
+  // A turning rigid body: the moment about z on its angle (prescribed or held), along z.
+  for (size_t b : a.turning_bodies()) {
+    const std::string& name = model_.bodies[b]->name();
+    csv_ += fmt::format("{},{},{:.10g},{:.10g},body_moment:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
+                        rec.time, rec.fraction, name, 0.0, 0.0, a.body_moment(name));
+  }
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   write_contact_csv(a, rec);
   const bool step_end = rec.fraction >= 1.0;

@@ -122,10 +122,34 @@ Analysis::Analysis(Model& model)
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
+  // Meshed rigid bodies that turn (plane problems): an angle each, about the first reference
+  // node; contact reaches it through the chain rule (RigidRotations).
+  rotations_.reference = &model.mesh.nodes;
+  rotations_.body_of_node.assign(model.mesh.num_nodes(), -1);
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    const Body& body = *model.bodies[b];
+    if (!body.rigid() || !body.turns() || body.reference_nodes().empty()) continue;
+    const int k = static_cast<int>(rotations_.dof.size());
+    rotations_.dof.push_back(unknowns++);
+    rotations_.ref.push_back(model.mesh.nodes[body.reference_nodes()[0]]);
+    turning_bodies_.push_back(b);
+    for (const ElementBlock& blk : body.blocks())
+      for (Index n : blk.conn) rotations_.body_of_node[n] = k;
+    for (Index n : body.reference_nodes()) rotations_.body_of_node[n] = k;
+  }
+  if (!turning_bodies_.empty())
+    for (auto& c : contacts_) c->set_rigid_rotations(&rotations_);
   // A turning obstacle's angle: its row is a moment, measured in the norms as a force at the
   // obstacle's radius (a plane: at its farthest slave node), so that a distant contact point
-  // does not inflate the force scale.
+  // does not inflate the force scale. A turning rigid body's likewise, at its farthest node.
   const int sdim = model.settings.spatial_dim();
+  for (size_t k = 0; k < turning_bodies_.size(); ++k) {
+    Real L = 0;
+    for (Index n = 0; n < model.mesh.num_nodes(); ++n)
+      if (rotations_.body_of_node[n] == static_cast<int>(k))
+        L = std::max(L, (model.mesh.nodes[n] - rotations_.ref[k]).norm());
+    moment_rows_.emplace_back(rotations_.dof[k], L > 0 ? 1 / L : 1.0);
+  }
   for (const auto& c : contacts_) {
     if (!c->rigid() || c->num_obstacle_dofs() <= sdim) continue;
     const RigidObstacle& ob = c->settings().obstacle;
@@ -155,6 +179,15 @@ std::vector<Vec3> Analysis::positions(const VecX& u) const {
   for (Index n = 0; n < dofs_.num_nodes(); ++n)
     if (dofs_.has_dofs(n))
       for (int d = 0; d < dim; ++d) x[n](d) += u(dofs_.dof(n, d));
+  // A turning rigid body's nodes: x = X_ref + u_ref + R(theta) (X - X_ref).
+  if (!turning_bodies_.empty())
+    for (Index n = 0; n < dofs_.num_nodes(); ++n) {
+      const int k = rotations_.body_of_node[n];
+      if (k < 0 || !dofs_.has_dofs(n)) continue;
+      const Real th = u(rotations_.dof[k]);
+      const Vec3 X = model_.mesh.nodes[n] - rotations_.ref[k];
+      x[n] = x[n] - X + Vec3(std::cos(th) * X.x() - std::sin(th) * X.y(), std::sin(th) * X.x() + std::cos(th) * X.y(), 0);
+    }
   return x;
 }
 
@@ -241,6 +274,10 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
           if (body->name() == l.set) body->add_body_force(X, dofs_, b, scale, fext);
         break;
       }
+      case LoadKind::body_moment:
+        for (size_t k = 0; k < turning_bodies_.size(); ++k)
+          if (model_.bodies[turning_bodies_[k]]->name() == l.set && l.moment) fext(rotations_.dof[k]) += scale * *l.moment;
+        break;
       case LoadKind::obstacle_force:
         for (auto& c : contacts_) {
           if (c->settings().name != l.set || !c->rigid()) continue;
@@ -400,6 +437,19 @@ void Analysis::begin_step(int s) {
       prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
       constrained_[dof] = 1;
     }
+  }
+  // Turning rigid bodies: the angle prescribed, loaded by a moment, or held.
+  for (size_t k = 0; k < turning_bodies_.size(); ++k) {
+    const std::string& name = model_.bodies[turning_bodies_[k]]->name();
+    const Index dof = rotations_.dof[k];
+    std::optional<Real> value;
+    for (const auto& t : step.body_turns)
+      if (t.body == name) value = t.angle;
+    bool turned = false;
+    for (const auto& l : step.loads) turned = turned || (l.kind == LoadKind::body_moment && l.set == name);
+    if (!value && turned) continue;  // free, driven by the moment
+    prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
+    constrained_[dof] = 1;
   }
   std::vector<char> in_contact(model_.mesh.num_nodes(), 0);
   for (const auto& cs : model_.contacts)
@@ -981,6 +1031,18 @@ Vec3 Analysis::obstacle_displacement(const ContactInterface& c) const {
 Real Analysis::obstacle_moment(const ContactInterface& c) const {
   const int sd = model_.settings.spatial_dim();
   return c.num_obstacle_dofs() > sd ? reactions_(c.obstacle_dofs() + sd) : 0.0;
+}
+
+Real Analysis::body_rotation(const std::string& body) const {
+  for (size_t k = 0; k < turning_bodies_.size(); ++k)
+    if (model_.bodies[turning_bodies_[k]]->name() == body) return u_(rotations_.dof[k]);
+  return 0;
+}
+
+Real Analysis::body_moment(const std::string& body) const {
+  for (size_t k = 0; k < turning_bodies_.size(); ++k)
+    if (model_.bodies[turning_bodies_[k]]->name() == body) return reactions_(rotations_.dof[k]);
+  return 0;
 }
 
 Real Analysis::obstacle_rotation(const ContactInterface& c) const {

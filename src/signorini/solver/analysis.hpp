@@ -103,6 +103,12 @@ class Analysis {
   // angle is prescribed or held, and the angle (0 for an obstacle that does not turn).
   Real obstacle_moment(const ContactInterface& c) const;
   Real obstacle_rotation(const ContactInterface& c) const;
+  // A turning meshed rigid body (plane problems): its angle, and the reaction moment about z on
+  // it when the angle is prescribed or held (0 for a body that does not turn).
+  Real body_rotation(const std::string& body) const;
+  Real body_moment(const std::string& body) const;
+  // The turning rigid bodies (model order indices) and their angles' unknowns.
+  const std::vector<size_t>& turning_bodies() const { return turning_bodies_; }
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
   std::vector<std::string> reaction_sets() const;
 
@@ -119,6 +125,8 @@ class Analysis {
   // (moment_rows_): forces and moments in one measure; without `moments`, those rows left out.
   Real force_norm(const VecX& v, bool moments = true) const;
   std::vector<std::pair<Index, Real>> moment_rows_;  // (unknown, 1 / length)
+  RigidRotations rotations_;             // turning meshed rigid bodies (ContactInterface reads it)
+  std::vector<size_t> turning_bodies_;   // their model indices, in rotations_'s order
   Real add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   AnalysisSummary run_steps();

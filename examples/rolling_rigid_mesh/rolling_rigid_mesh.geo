@@ -1,0 +1,61 @@
+// The block of examples/rolling_cylinder ([-L, L] x [-H, 0], fine strip where the roller
+// rolls) and the roller as a meshed disk of radius R centred at (0, R), fine (size hr) on the
+// arc of its rim that rolls over the block (from 95 to 45 degrees below the horizontal, right
+// of the bottom: the roller turns clockwise), with its centre as a node (the reference node).
+DefineConstant[ L = 20, H = 20, hc = 0.05, hf = 2.5, x0 = -2.5, x1 = 7.5, depth = 1.5, R = 10, hr = 0.05, hd = 2 ];
+Point(1) = {-L, -H, 0, hf};
+Point(2) = {L, -H, 0, hf};
+Point(3) = {L, 0, 0, hf};
+Point(4) = {-L, 0, 0, hf};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+// The roller: its rim in four arcs, the fine one from -95 to -45 degrees.
+a1 = -95 * Pi / 180;
+a2 = -45 * Pi / 180;
+Point(10) = {0, R, 0, hd};
+Point(11) = {R * Cos(a1), R + R * Sin(a1), 0, hr};
+Point(12) = {R * Cos(a2), R + R * Sin(a2), 0, hr};
+Point(13) = {0, 2 * R, 0, hd};
+Point(14) = {-R, R, 0, hd};
+Circle(11) = {11, 10, 12};
+Circle(12) = {12, 10, 13};
+Circle(13) = {13, 10, 14};
+Circle(14) = {14, 10, 11};
+Curve Loop(2) = {11, 12, 13, 14};
+Plane Surface(2) = {2};
+Point{10} In Surface{2};
+Field[1] = Box;
+Field[1].VIn = hc;
+Field[1].VOut = hf;
+Field[1].XMin = x0;
+Field[1].XMax = x1;
+Field[1].YMin = -depth;
+Field[1].YMax = 0.01;
+Field[1].Thickness = 4;
+Field[2] = Distance;
+Field[2].CurvesList = {11};
+Field[2].NumPointsPerCurve = 400;
+Field[3] = Threshold;
+Field[3].InField = 2;
+Field[3].SizeMin = hr;
+Field[3].SizeMax = hd;
+Field[3].DistMin = 0.3;
+Field[3].DistMax = 6;
+Field[4] = Min;
+Field[4].FieldsList = {1, 3};
+Background Field = 4;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Mesh.Algorithm = 6;
+Mesh.RecombineAll = 1;
+Physical Surface("Block") = {1};
+Physical Curve("Bottom") = {1};
+Physical Curve("Top") = {3};
+Physical Surface("Roller") = {2};
+Physical Curve("Rim") = {11, 12, 13, 14};
+Physical Point("Centre") = {10};
