@@ -1,7 +1,8 @@
 // A rigid roller that turns (issue 16: rigid bodies that rotate): the example
 // `rolling_cylinder`, a rigid cylinder (R = 10 mm) pressed into an elastic block (steel, plane
-// strain, Coulomb mu = 0.3) and rolled by prescribing its angle, its horizontal translation free.
-// References:
+// strain, Coulomb mu = 0.3) and rolled by prescribing its angle, its horizontal translation free;
+// and `rolling_rigid_mesh`, the same roller as a meshed rigid body turning about its reference
+// node. Both against the same references:
 // - press: Hertz's half-width for a rigid cylinder on an elastic half-space, a^2 = 4 P R /
 //   (pi E*), E* = E / (1 - nu^2) (Johnson, Contact Mechanics, 1985, eq. 4.43 with a rigid
 //   body), from the computed P, within 5 % (nodes 0.05 mm apart, a = 0.62 mm);
@@ -10,7 +11,8 @@
 //   Dundurs' beta = -0.29 couples the pressure to tangential tractions: Johnson 1985, sec.
 //   8.2), most of the patch sticks, and the moment that turns it is next to nothing (below
 //   1e-3 of P R: an elastic body has no rolling resistance);
-// - hold_back and drive (a horizontal force Q = 1000 N/mm, Q / (mu P) = 0.50, holds it back):
+// - hold_back and drive (a horizontal force Q = 1000 N/mm, Q / (mu P) = 0.50, holds it back;
+//   the contact force on the block balances it, the deck's check):
 //   the reaction moment equals the moment of the contact forces about the roller's centre to
 //   1e-6 (the turning unknown's equilibrium; exact), and Q R within 3 % (the normal forces pass
 //   through the centre; their horizontal part, the patch's small offset, makes the difference);
@@ -130,6 +132,7 @@ void check_roller(const std::string& example, const RollerView& view, Real creep
               drive.moment, drive.contact_moment, worst, Q * R, 100 * (std::abs(drive.moment) / (Q * R) - 1), drive.stick,
               drive.slip);
   EXPECT_LT(worst, 1e-6);
+  EXPECT_NEAR(drive.Qx, -Q, 1e-5 * Q) << "the contact force on the block holds the roller against Q";
   EXPECT_NEAR(std::abs(drive.moment), Q * R, 0.03 * Q * R);
   // Creep of the driven roller against free rolling (steady, the second half of each step).
   const Real creep = creep_of(3) - free_creep;
