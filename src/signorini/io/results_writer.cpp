@@ -179,14 +179,20 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   d.points = &m.mesh.nodes;
   VtuField disp{"displacement", 3, std::vector<Real>(3 * m.mesh.num_nodes(), 0.0), {}};
   VtuField reac{"reaction_force", 3, std::vector<Real>(3 * m.mesh.num_nodes(), 0.0), {}};
-  // Displacements from the current positions (a turning rigid body's nodes are not their
-  // DOFs' translation alone).
-  const std::vector<Vec3> xcur = a.positions(a.displacement());
+  // A turning rigid body's nodes are not at their DOFs' translation alone: their displacement
+  // is the current position less the reference one (the others' is their DOFs', exactly).
+  std::vector<char> turns(m.mesh.num_nodes(), 0);
+  for (size_t b : a.turning_bodies()) {
+    for (const ElementBlock& blk : m.bodies[b]->blocks())
+      for (Index n : blk.conn) turns[n] = 1;
+    for (Index n : m.bodies[b]->reference_nodes()) turns[n] = 1;
+  }
+  const std::vector<Vec3> xcur = a.turning_bodies().empty() ? std::vector<Vec3>() : a.positions(a.displacement());
   for (Index n = 0; n < m.mesh.num_nodes(); ++n)
     for (int i = 0; i < dim; ++i) {
       const Index k = dofs.dof(n, i);
       if (k < 0) continue;
-      disp.values[3 * n + i] = xcur[n](i) - m.mesh.nodes[n](i);
+      disp.values[3 * n + i] = turns[n] ? xcur[n](i) - m.mesh.nodes[n](i) : a.displacement()(k);
       reac.values[3 * n + i] = a.reactions()(k);
     }
   d.point_fields = {disp, reac};
