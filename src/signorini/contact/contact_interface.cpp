@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "signorini/contact/compatibility.hpp"
+#include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
@@ -175,10 +176,7 @@ void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
   for (size_t k = 0; k < c.nodes.size(); ++k) {
     const int b = rr.body_of_node[c.nodes[k]];
     if (b < 0) continue;
-    const Real theta = z(rr.dof[b]);
-    const Vec3 X = (*rr.reference)[c.nodes[k]] - rr.ref[b];
-    const Real cs = std::cos(theta), sn = std::sin(theta);
-    const Vec3 d(cs * X.x() - sn * X.y(), sn * X.x() + cs * X.y(), 0);
+    const Vec3 d = rotation_z(z(rr.dof[b])) * ((*rr.reference)[c.nodes[k]] - rr.ref[b]);
     t[k] = Vec3(-d.y(), d.x(), 0);
     s2[k] = -d;
     col[k] = m + (std::find(bodies.begin(), bodies.end(), b) - bodies.begin());

@@ -8,6 +8,7 @@
 #include <functional>
 #include <sstream>
 
+#include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/interrupt.hpp"
@@ -184,9 +185,8 @@ std::vector<Vec3> Analysis::positions(const VecX& u) const {
     for (Index n = 0; n < dofs_.num_nodes(); ++n) {
       const int k = rotations_.body_of_node[n];
       if (k < 0 || !dofs_.has_dofs(n)) continue;
-      const Real th = u(rotations_.dof[k]);
       const Vec3 X = model_.mesh.nodes[n] - rotations_.ref[k];
-      x[n] = x[n] - X + Vec3(std::cos(th) * X.x() - std::sin(th) * X.y(), std::sin(th) * X.x() + std::cos(th) * X.y(), 0);
+      x[n] = x[n] - X + rotation_z(u(rotations_.dof[k])) * X;
     }
   return x;
 }
@@ -432,7 +432,7 @@ void Analysis::begin_step(int s) {
       const Index dof = c->obstacle_dofs() + i;
       std::optional<Real> value;
       for (const auto& om : step.obstacles)
-        if (om.pair == c->settings().name && (i < sdim ? om.u[i] : om.rotation)) value = i < sdim ? om.u[i] : om.rotation;
+        if (const auto& v = i < sdim ? om.u[i] : om.rotation; om.pair == c->settings().name && v) value = v;
       if (!value && (i < sdim ? forced : turned)) continue;  // free, driven by the force or the moment
       prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
       constrained_[dof] = 1;
