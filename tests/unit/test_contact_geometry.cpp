@@ -3,7 +3,10 @@
 // and second variations against central differences of a fresh projection.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "signorini/contact/geometry/facet_projection.hpp"
+#include "signorini/contact/geometry/rotation.hpp"
 #include "signorini/contact/surface.hpp"
 #include "signorini/fem/shape.hpp"
 
@@ -455,4 +458,45 @@ TEST(ContactSurface, AxisymmetricWeightsOnTheAxis) {
         ++cases;
       }
   EXPECT_EQ(cases, 40);
+}
+
+// ---------------------------------------------------------------------------------------
+// Rotations (geometry/rotation.hpp): R against Eigen's angle-axis rotation, and its first and
+// second derivatives, the spin operator T and its derivative against central differences, at
+// angles on both sides of the series/closed-form switch (|theta| = 0.5), at zero and near pi.
+TEST(Rotation, RodriguesAndItsDerivativesMatchCentralDifferences) {
+  const std::vector<Vec3> angles = {Vec3::Zero(),          Vec3(1e-9, -2e-9, 3e-9), Vec3(0.01, -0.02, 0.005),
+                                    Vec3(0.3, 0.2, -0.25), Vec3(0.28, 0.29, -0.2), Vec3(0.4, -0.3, 0.2),
+                                    Vec3(1.2, -0.7, 2.0),  Vec3(0, 0, 3.1)};
+  for (const Vec3& th : angles) {
+    SCOPED_TRACE("theta = (" + std::to_string(th(0)) + ", " + std::to_string(th(1)) + ", " + std::to_string(th(2)) + ")");
+    const Rotation r = rotation(th.data(), 3);
+    const Mat3 ref = th.norm() > 0 ? Mat3(Eigen::AngleAxis<Real>(th.norm(), th.normalized())) : Mat3::Identity();
+    EXPECT_LT((r.R - ref).cwiseAbs().maxCoeff(), 1e-15);
+    const Real h = 1e-6;
+    auto R_at = [&](const Vec3& t) { return rotation(t.data(), 3); };
+    for (int i = 0; i < 3; ++i) {
+      Vec3 p = th, m = th;
+      p(i) += h;
+      m(i) -= h;
+      const Rotation rp = R_at(p), rm = R_at(m);
+      EXPECT_LT((r.dR[i] - (rp.R - rm.R) / (2 * h)).cwiseAbs().maxCoeff(), 1e-9) << "dR/dtheta_" << i;
+      for (int j = 0; j < 3; ++j)
+        EXPECT_LT((r.d2R[i][j] - (rp.dR[j] - rm.dR[j]) / (2 * h)).cwiseAbs().maxCoeff(), 1e-8)
+            << "d2R/dtheta_" << i << " dtheta_" << j;
+      // T: the spin of a motion along theta_i, axial(dR R^T), against the rotation of the
+      // increment R(theta + h e_i) R(theta - h e_i)^T (its axial vector / 2h).
+      const Mat3 W = (rp.R * rm.R.transpose() - rm.R * rp.R.transpose()) / (4 * h);
+      EXPECT_LT((r.T().col(i) - Vec3(W(2, 1), W(0, 2), W(1, 0))).norm(), 1e-9) << "T column " << i;
+      EXPECT_LT((r.dT()[i] - (rp.T() - rm.T()) / (2 * h)).cwiseAbs().maxCoeff(), 1e-8) << "dT/dtheta_" << i;
+    }
+  }
+  // Plane problems: one angle about z.
+  const Real a = 0.7;
+  const Rotation p = rotation(&a, 1);
+  EXPECT_LT((p.R - Mat3(Eigen::AngleAxis<Real>(a, Vec3::UnitZ()))).cwiseAbs().maxCoeff(), 1e-15);
+  const Real ap = a + 1e-6, am = a - 1e-6;
+  EXPECT_LT((p.dR[0] - (rotation(&ap, 1).R - rotation(&am, 1).R) / 2e-6).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((p.d2R[0][0] - (rotation(&ap, 1).dR[0] - rotation(&am, 1).dR[0]) / 2e-6).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(p.T().col(0), Vec3::UnitZ());
 }

@@ -81,7 +81,7 @@ void check_combination(const ContactCombination& c) {
     cs.slave = three ? "zmax" : "ymax";
     RigidObstacle& ob = cs.obstacle;
     ob.shape = c.discretization.substr(6);
-    cs.turns = true;  // plane problems: the angle is an unknown
+    cs.turns = true;  // the rotation is an unknown (but in axisymmetry)
     if (ob.shape == "plane") {
       ob.point = three ? Vec3(0, 0, 0.505) : Vec3(0, 0.505, 0);
       ob.normal = -Vec3::Unit(vert);
@@ -110,18 +110,20 @@ void check_combination(const ContactCombination& c) {
 
   // Start of the increment: the slave side pressed in (a wave, so some nodes open); then a
   // tangential motion of varying size.
-  // A rigid obstacle's unknowns: dim translations, and in plane problems its angle.
-  const bool turns = c.rigid() && (c.dimension == Dimension::plane_strain || c.dimension == Dimension::plane_stress);
-  const Index nu = nd + (c.rigid() ? dim + (turns ? 1 : 0) : 0);
+  // A rigid obstacle's unknowns: dim translations, and (but in axisymmetry) its angles: one in
+  // plane problems, a rotation vector in 3D.
+  const int angles = !c.rigid() || c.dimension == Dimension::axisymmetric ? 0 : (three ? 3 : 1);
+  const Index nu = nd + (c.rigid() ? dim + angles : 0);
   VecX z0 = VecX::Zero(nu);
   for (Index n : mesh.node_sets[moving]) {
     const Vec3& X = mesh.nodes[n];
     z0(dofs.dof(n, vert)) = (c.rigid() ? 1 : -1) * (0.004 + 0.008 * std::sin(7 * X(0) + 3 * X(1)));
   }
   if (c.rigid()) z0(nd + vert) = c.discretization == "rigid_plane" ? 0.0 : -0.04;
-  // Turned (a plane about its point, so its normal tilts; a cylinder about its centre, which
-  // moves friction's slip origins), and turned further in the increment.
-  if (turns) z0(nd + dim) = -0.005;
+  // Turned (a plane about its point, so its normal tilts; a cylinder or sphere about its centre
+  // or axis point, which moves friction's slip origins), and turned further in the increment.
+  const Real turn0[3] = {-0.005, 0.004, 0.003}, turn1[3] = {-0.008, 0.007, -0.002};
+  for (int i = 0; i < angles; ++i) z0(nd + dim + i) = turn0[i];
   if (c.smoothing != "none") {
     // A curved master, so that smoothing differs from the faceted surface.
     for (Index n : mesh.node_sets.at("lower_domain")) {
@@ -136,7 +138,7 @@ void check_combination(const ContactCombination& c) {
     if (three) z(dofs.dof(n, 1)) += 0.003 * std::sin(4 * X(0));
   }
   if (c.rigid()) z(nd) = 0.003;
-  if (turns) z(nd + dim) = -0.008;
+  for (int i = 0; i < angles; ++i) z(nd + dim + i) = turn1[i];
 
   // Tangential stiffness: automatic first; others until some closed nodes stick and others slip.
   const std::vector<Real> tangential =

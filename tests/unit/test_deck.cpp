@@ -435,14 +435,14 @@ TEST(Deck, TurningRigidBodyEntries) {
   EXPECT_TRUE(m.bodies[0]->turns());
   ASSERT_EQ(m.steps[0].body_turns.size(), 1u);
   EXPECT_EQ(m.steps[0].body_turns[0].body, "plate");
-  EXPECT_DOUBLE_EQ(m.steps[0].body_turns[0].angle, 0.1);
+  EXPECT_DOUBLE_EQ(m.steps[0].body_turns[0].rotation.z(), 0.1);
   m = read_deck(write_deck("rb_moment", replace(rigid, "    loads:\n", "    loads:\n      - {set: Left, moment: 5}\n")), r);
   EXPECT_TRUE(m.bodies[0]->turns());
   EXPECT_EQ(m.steps[0].loads[0].kind, LoadKind::body_moment);
   auto e = error_of("rb_notref", replace(good, "rotation: 0.1}", "rotation: 0.1}\n      - {set: Bottom, rotation: 1}"));
   EXPECT_MESSAGE(e, "rb_notref.yaml:", "rotation", "no rigid body's reference set");
   e = error_of("rb_axi", replace(good, "dimension: plane_strain", "dimension: axisymmetric"));
-  EXPECT_MESSAGE(e, "rb_axi.yaml:", "rotation", "plane strain and plane stress");
+  EXPECT_MESSAGE(e, "rb_axi.yaml:", "rotation", "axisymmetric");
   e = error_of("rb_moment_set", replace(rigid, "    loads:\n", "    loads:\n      - {set: Bottom, moment: 5}\n"));
   EXPECT_MESSAGE(e, "rb_moment_set.yaml:", "set", "reference node set");
   e = error_of("rb_moment_force", replace(rigid, "    loads:\n", "    loads:\n      - {set: Left, force: [1, 0], moment: 5}\n"));
@@ -535,20 +535,27 @@ TEST(Deck, TurningObstacleEntries) {
   Registry r = default_registry();
   Model m = read_deck(write_deck("turn_good", replace(good, "    loads:\n", "    loads:\n      - {contact: roller, moment: 5}\n")), r);
   ASSERT_EQ(m.steps[0].obstacles.size(), 1u);
-  EXPECT_DOUBLE_EQ(*m.steps[0].obstacles[0].rotation, -0.2);
+  EXPECT_DOUBLE_EQ(m.steps[0].obstacles[0].rotation->z(), -0.2);
   EXPECT_FALSE(m.steps[0].obstacles[0].u[0].has_value());
   EXPECT_DOUBLE_EQ(*m.steps[0].obstacles[0].u[1], -0.1);
   ASSERT_EQ(m.steps[0].loads.size(), 2u);
-  EXPECT_DOUBLE_EQ(*m.steps[0].loads[0].moment, 5);
+  EXPECT_DOUBLE_EQ(m.steps[0].loads[0].moment->z(), 5);
   EXPECT_FALSE(m.steps[0].loads[0].obstacle_translations) << "a moment alone leaves the translations held";
   auto e = error_of("turn_set", replace(good, "{set: Bottom, uy: 0}", "{set: Bottom, uy: 0, rotation: 1}"));
   EXPECT_MESSAGE(e, "turn_set.yaml:", "rotation", "rigid obstacle");
   e = error_of("turn_axi", replace(good, "dimension: plane_strain", "dimension: axisymmetric"));
-  EXPECT_MESSAGE(e, "turn_axi.yaml:", "rotation", "plane strain and plane stress");
+  EXPECT_MESSAGE(e, "turn_axi.yaml:", "rotation", "axisymmetric");
   e = error_of("turn_moment", replace(good, "traction: [1e6, 0]}", "traction: [1e6, 0], moment: 3}"));
   EXPECT_MESSAGE(e, "turn_moment.yaml:", "moment", "rigid obstacle ('contact')");
   e = error_of("turn_none", replace(good, "u: [~, -0.1], rotation: -0.2", "ux: 0"));
   EXPECT_MESSAGE(e, "turn_none.yaml:", "turns by 'rotation'");
+  // A rotation vector or moment vector is for 3D; a plane problem takes one number.
+  e = error_of("turn_vector", replace(good, "rotation: -0.2", "rotation: [0, 0, -0.2]"));
+  EXPECT_MESSAGE(e, "turn_vector.yaml:", "rotation", "one number (about z");
+  e = error_of("turn_mvector", replace(good, "    loads:\n", "    loads:\n      - {contact: roller, moment: [0, 0, 5]}\n"));
+  EXPECT_MESSAGE(e, "turn_mvector.yaml:", "moment", "one number");
+  e = error_of("turn_text", replace(good, "rotation: -0.2", "rotation: lots"));
+  EXPECT_MESSAGE(e, "turn_text.yaml:", "rotation");
 }
 
 // The centrifugal load: a body, the axis by dimension, keys checked.

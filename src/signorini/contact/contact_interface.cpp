@@ -113,7 +113,8 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
     auto add_node = [&](Index n) {
       for (int d = 0; d < dim_; ++d) g.push_back(dofs.dof(n, d));
       // A turning rigid body's angle couples with its nodes.
-      if (rotations_ && rotations_->body_of_node[n] >= 0) g.push_back(rotations_->dof[rotations_->body_of_node[n]]);
+      if (rotations_ && rotations_->body_of_node[n] >= 0)
+        for (int i = 0; i < rotations_->angles; ++i) g.push_back(rotations_->dof[rotations_->body_of_node[n]] + i);
     };
     discretization_->coupled_nodes(j, nodes);
     for (Index n : nodes) add_node(n);
@@ -163,34 +164,44 @@ void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX&
 void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
   const int dim = dim_;
   const RigidRotations& rr = *rotations_;
-  // The turning bodies among c's nodes, each a new column after the existing ones.
+  const int na = rr.angles;
+  // The turning bodies among c's nodes, each `na` new columns after the existing ones.
   std::vector<int> bodies;
   for (Index n : c.nodes)
     if (rr.body_of_node[n] >= 0 && std::find(bodies.begin(), bodies.end(), rr.body_of_node[n]) == bodies.end())
       bodies.push_back(rr.body_of_node[n]);
   if (bodies.empty()) return;
-  const Index m = c.grad.size(), nb = static_cast<Index>(bodies.size());
-  // Per node k of a turning body: t_k = dx_k/dtheta and s_k = d2x_k/dtheta2.
-  std::vector<Vec3> t(c.nodes.size(), Vec3::Zero()), s2(c.nodes.size(), Vec3::Zero());
-  std::vector<Index> col(c.nodes.size(), -1);
+  const Index m = c.grad.size(), nb = static_cast<Index>(bodies.size()) * na;
+  std::vector<Rotation> rot;
+  for (int b : bodies) rot.push_back(rotation(z.data() + rr.dof[b], na));
+  // Per node k of a turning body: its offset D_k from the body's point, x_k = ... + R D_k, so
+  // dx_k/dtheta_i = R_,i D_k and d2x_k/dtheta_i dtheta_j = R_,ij D_k.
+  std::vector<Vec3> D(c.nodes.size(), Vec3::Zero());
+  std::vector<int> slot(c.nodes.size(), -1);  // index into bodies
   for (size_t k = 0; k < c.nodes.size(); ++k) {
     const int b = rr.body_of_node[c.nodes[k]];
     if (b < 0) continue;
-    const Vec3 d = rotation_z(z(rr.dof[b])) * ((*rr.reference)[c.nodes[k]] - rr.ref[b]);
-    t[k] = Vec3(-d.y(), d.x(), 0);
-    s2[k] = -d;
-    col[k] = m + (std::find(bodies.begin(), bodies.end(), b) - bodies.begin());
+    slot[k] = static_cast<int>(std::find(bodies.begin(), bodies.end(), b) - bodies.begin());
+    D[k] = (*rr.reference)[c.nodes[k]] - rr.ref[b];
   }
   // T: the old columns' derivative in each new column (m x nb).
   MatX T = MatX::Zero(m, nb);
   for (size_t k = 0; k < c.nodes.size(); ++k)
-    if (col[k] >= 0)
-      for (int a = 0; a < dim; ++a) T(static_cast<Index>(k) * dim + a, col[k] - m) = t[k](a);
-  auto second = [&](const VecX& g) {  // sum_k g_k . s_k per new column (the diagonal blocks)
-    VecX v = VecX::Zero(nb);
+    if (slot[k] >= 0)
+      for (int i = 0; i < na; ++i) {
+        const Vec3 t = rot[slot[k]].dR[i] * D[k];
+        for (int a = 0; a < dim; ++a) T(static_cast<Index>(k) * dim + a, slot[k] * na + i) = t(a);
+      }
+  auto second = [&](const VecX& g) {  // sum_k g_k . R_,ij D_k per pair of new columns (the body blocks)
+    MatX v = MatX::Zero(nb, nb);
     for (size_t k = 0; k < c.nodes.size(); ++k)
-      if (col[k] >= 0)
-        for (int a = 0; a < dim; ++a) v(col[k] - m) += g(static_cast<Index>(k) * dim + a) * s2[k](a);
+      if (slot[k] >= 0) {
+        Vec3 gk = Vec3::Zero();
+        for (int a = 0; a < dim; ++a) gk(a) = g(static_cast<Index>(k) * dim + a);
+        for (int i = 0; i < na; ++i)
+          for (int j = 0; j < na; ++j)
+            v(slot[k] * na + i, slot[k] * na + j) += gk.dot(rot[slot[k]].d2R[i][j] * D[k]);
+      }
     return v;
   };
   const VecX g_theta = T.transpose() * c.grad;
@@ -199,8 +210,7 @@ void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
   H.topLeftCorner(m, m) = c.hess;
   H.topRightCorner(m, nb) = HT;
   H.bottomLeftCorner(nb, m) = HT.transpose();
-  H.bottomRightCorner(nb, nb) = T.transpose() * HT;
-  H.bottomRightCorner(nb, nb).diagonal() += second(c.grad);
+  H.bottomRightCorner(nb, nb) = T.transpose() * HT + second(c.grad);
   c.hess = std::move(H);
   c.grad.conservativeResize(m + nb);
   c.grad.tail(nb) = g_theta;
@@ -212,13 +222,14 @@ void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
     std::vector<MatX> sh(dim, MatX::Zero(m + nb, m + nb));
     for (int d = 0; d < dim; ++d) {
       if (static_cast<int>(c.slip_hessian.size()) > d) sh[d].topLeftCorner(m, m) = c.slip_hessian[d];
-      sh[d].bottomRightCorner(nb, nb).diagonal() += second(c.slip_jacobian.row(d).transpose());
+      sh[d].bottomRightCorner(nb, nb) += second(c.slip_jacobian.row(d).transpose());
     }
     c.slip_hessian = std::move(sh);
     c.slip_jacobian.conservativeResize(Eigen::NoChange, m + nb);
     c.slip_jacobian.rightCols(nb) = DT;
   }
-  for (int b : bodies) c.extra_dofs.push_back(rr.dof[b]);
+  for (int b : bodies)
+    for (int i = 0; i < na; ++i) c.extra_dofs.push_back(rr.dof[b] + i);
 }
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,

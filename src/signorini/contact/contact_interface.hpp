@@ -18,13 +18,15 @@
 
 namespace signorini {
 
-// Meshed rigid bodies that turn (plane problems): a node of such a body sits at
-// x = X_ref + u_ref + R(theta) (X - X_ref), its translation the body's shared DOFs and theta an
-// unknown of its own. The contact constraints' derivatives in theta follow by the chain rule
-// (ContactInterface::add_rigid_rotations).
+// Meshed rigid bodies that turn: a node of such a body sits at
+// x = X_ref + u_ref + R(theta) (X - X_ref), its translation the body's shared DOFs and theta
+// unknowns of its own (one angle about z in plane problems, a rotation vector in 3D;
+// geometry/rotation.hpp). The contact constraints' derivatives in theta follow by the chain
+// rule (ContactInterface::add_rigid_rotations).
 struct RigidRotations {
+  int angles = 1;                 // per body: 1 (plane problems) or 3 (3D)
   std::vector<int> body_of_node;  // per mesh node: the turning body (index below), or -1
-  std::vector<Index> dof;         // per turning body: its angle's unknown
+  std::vector<Index> dof;         // per turning body: its first angle's unknown (then the others)
   std::vector<Vec3> ref;          // per turning body: the point it turns about (reference configuration)
   const std::vector<Vec3>* reference = nullptr;  // the mesh's reference coordinates
 };

@@ -42,28 +42,37 @@ struct Load {
   std::string set;        // node set, facet set, body name (body force, body moment) or contact pair (obstacle force)
   Vec3 vector = Vec3::Zero();  // total force, traction, or body force per unit volume
   Real pressure = 0;
-  std::optional<Real> moment;  // obstacle_force, body_moment: the moment about z (plane problems)
+  // obstacle_force, body_moment: the moment (plane problems: about z, its z component; 3D: a
+  // fixed spatial vector, geometry/rotation.hpp for its work on the angles)
+  std::optional<Vec3> moment;
   bool obstacle_translations = true;  // obstacle_force: a force is given (its translations are then free)
   Centrifugal centrifugal;
   std::string where;
 };
 
-// Prescribed displacement components of a rigid obstacle (absent: not prescribed), and in
-// plane problems its angle, ramped over the step like Dirichlet values from where the
-// obstacle is when the step begins. Translations neither prescribed nor loaded by an obstacle
-// force are held where they are; the angle likewise, unless the load has a moment.
+// Prescribed displacement components of a rigid obstacle (absent: not prescribed), and its
+// rotation, ramped over the step like Dirichlet values from where the obstacle is when the
+// step begins. Translations neither prescribed nor loaded by an obstacle force are held where
+// they are; the rotation likewise, unless the load has a moment.
 struct ObstacleMotion {
   std::string pair;
   std::optional<Real> u[3];
-  std::optional<Real> rotation;  // plane problems: the angle about z (radians, counter-clockwise)
+  // Plane problems: the angle about z (radians, counter-clockwise) as the z component; 3D: the
+  // rotation vector (axis times angle).
+  std::optional<Vec3> rotation;
 };
 
-// The angle a meshed rigid body turns to about its reference node (plane problems), ramped
-// over the step from the angle it has when the step begins.
+// The rotation a meshed rigid body turns to about its reference node (plane problems: the
+// angle about z as the z component; 3D: the rotation vector), each component ramped over the
+// step from the value it has when the step begins.
 struct BodyTurn {
   std::string body;
-  Real angle = 0;
+  Vec3 rotation = Vec3::Zero();
 };
+
+// The angles of a rotation with `n` of them (1: plane problems, about z; 3: a rotation vector)
+// as components of a Vec3: angle i is component rotation_component(i, n).
+inline int rotation_component(int i, int n) { return n == 1 ? 2 : i; }
 
 struct Step {
   std::string name;

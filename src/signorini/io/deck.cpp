@@ -349,6 +349,25 @@ Body* rigid_body_of_reference(const std::string& set, Model& m) {
   return nullptr;
 }
 
+// A rotation or a moment of a rigid body or obstacle: one number about z in plane strain and
+// plane stress, a vector [x, y, z] in 3D (a rotation: the rotation vector, axis times angle in
+// radians), as a Vec3 (plane problems: the z component).
+Vec3 read_turn(const Node& n, const Model& m, const std::string& subject) {
+  const std::string what = n.path.substr(n.path.rfind('.') + 1);
+  if (m.settings.dimension == Dimension::axisymmetric)
+    n.fail(subject + " does not turn in an axisymmetric analysis (it moves along the axis only)");
+  if (m.settings.dimension == Dimension::three_d) {
+    if (!n.node.IsSequence() || n.node.size() != 3)
+      n.fail("in 3D, '" + what + "' is a vector [x, y, z]" +
+             (what == "rotation" ? " (the rotation vector: axis times angle, radians)" : ""));
+    return n.vector(3);
+  }
+  if (n.node.IsSequence())
+    n.fail("in plane strain and plane stress, '" + what + "' is one number (about z" +
+           (what == "rotation" ? ", radians, counter-clockwise)" : ")"));
+  return Vec3(0, 0, n.as_number());
+}
+
 // A rigid obstacle whose angle some step prescribes or loads: it turns (one more unknown).
 void mark_turning(const std::string& pair, Model& m) {
   for (auto& cp : m.contacts)
@@ -426,9 +445,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
             if (!u.at(c).node.IsNull()) om.u[c] = u.at(c).as_number();
         }
         if (b.has("rotation")) {
-          if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
-            b.child("rotation").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
-          om.rotation = b.child("rotation").as_number();
+          om.rotation = read_turn(b.child("rotation"), m, "a rigid obstacle");
           mark_turning(om.pair, m);
         }
         for (const char* k : {"ux", "uy", "uz"})
@@ -447,10 +464,9 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         if (!body)
           b.child("rotation").fail("'rotation' turns a rigid body (set: its reference node set) or a rigid obstacle "
                                    "(contact: <pair>); '" + set + "' is no rigid body's reference set");
-        if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
-          b.child("rotation").fail("a rigid body turns in plane strain and plane stress only (so far)");
+        const Vec3 rotation = read_turn(b.child("rotation"), m, "a rigid body");
         body->set_turns(true);
-        step.body_turns.push_back({body->name(), b.child("rotation").as_number()});
+        step.body_turns.push_back({body->name(), rotation});
         any = true;
       }
       if (b.has("u")) {
@@ -499,12 +515,10 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         const std::string set = l.child("set").as_string();
         Body* body = rigid_body_of_reference(set, m);
         if (!body) l.child("set").fail("a moment loads a rigid body through its reference node set; '" + set + "' is none");
-        if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
-          l.child("moment").fail("a rigid body turns in plane strain and plane stress only (so far)");
+        load.moment = read_turn(l.child("moment"), m, "a rigid body");
         body->set_turns(true);
         load.kind = LoadKind::body_moment;
         load.set = body->name();
-        load.moment = l.child("moment").as_number();
         step.loads.push_back(load);
         continue;
       }
@@ -516,9 +530,7 @@ void read_step(const Node& s, size_t index, const Registry& r, Model& m) {
         load.obstacle_translations = l.has("force");
         if (l.has("force")) load.vector = l.child("force").vector(dim);
         if (l.has("moment")) {
-          if (m.settings.dimension != Dimension::plane_strain && m.settings.dimension != Dimension::plane_stress)
-            l.child("moment").fail("a rigid obstacle turns in plane strain and plane stress only (so far)");
-          load.moment = l.child("moment").as_number();
+          load.moment = read_turn(l.child("moment"), m, "a rigid obstacle");
           mark_turning(load.set, m);
         }
       } else if (l.has("body_force") || l.has("centrifugal")) {

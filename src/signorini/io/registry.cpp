@@ -269,10 +269,12 @@ void register_deck_sections(Registry& r) {
           opt(text("ux", "x (or r) component", std::nullopt, ParamKind::any)),
           opt(text("uy", "y (or z) component", std::nullopt, ParamKind::any)),
           opt(text("uz", "z component (3D)", std::nullopt, ParamKind::any)),
-          opt(number("rotation", "in plane strain and plane stress: the angle (radians, counter-clockwise) a rigid "
-                                 "obstacle (with contact) turns by about its point (a plane's point, a cylinder's "
-                                 "centre), or a meshed rigid body (set: its reference node set) about its reference node",
-                     std::nullopt))}});
+          opt(text("rotation", "the rotation of a rigid obstacle (with contact) about its point (a plane's point, a "
+                               "cylinder's axis point, a sphere's centre), or of a meshed rigid body (set: its reference "
+                               "node set) about its reference node: in plane strain and plane stress the angle about z "
+                               "(radians, counter-clockwise), in 3D the rotation vector [x, y, z] (axis times angle, "
+                               "each component ramped; one-to-one below an angle of pi)",
+                   std::nullopt, ParamKind::any))}});
   r.add({"deck", "load", "A load, ramped from its value at the end of the previous step: exactly one of force "
                          "(total force on a node set, shared equally by its nodes), traction (per unit reference area "
                          "of a facet set), pressure (on a facet set, positive in compression, follower in finite "
@@ -281,9 +283,10 @@ void register_deck_sections(Registry& r) {
          {opt(text("set", "node set or facet set", std::nullopt)), opt(text("body", "body name (body_force)", std::nullopt)),
           opt(text("contact", "instead of set: a contact pair whose rigid obstacle the force pushes", std::nullopt)),
           opt(text("force", "total force vector", std::nullopt, ParamKind::vector)),
-          opt(number("moment", "in plane strain and plane stress: the moment about z on a rigid obstacle (with "
-                               "contact; about its point) or on a meshed rigid body (set: its reference node set, the "
-                               "moment alone); its angle is then free", std::nullopt)),
+          opt(text("moment", "the moment on a rigid obstacle (with contact; about its point) or on a meshed rigid body "
+                             "(set: its reference node set, the moment alone), its rotation then free: in plane strain "
+                             "and plane stress a number (about z), in 3D a vector [x, y, z] fixed in space",
+                   std::nullopt, ParamKind::any)),
           opt(text("traction", "traction vector", std::nullopt, ParamKind::vector)),
           opt(number("pressure", "pressure", std::nullopt)),
           opt(text("body_force", "force per unit volume", std::nullopt, ParamKind::vector)),

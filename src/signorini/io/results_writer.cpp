@@ -290,17 +290,20 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
       const Vec3 r = a.obstacle_reaction(*c);
       csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
                           rec.time, rec.fraction, c->settings().name, r(0), r(1), r(2));
-      // A turning obstacle (plane problems): the moment about z that holds or turns it, as a
-      // vector along z.
-      if (c->num_obstacle_dofs() > model_.settings.spatial_dim())
+      // A turning obstacle: the moment that holds or turns it (plane problems: about z, a
+      // vector along z), where its rotation is prescribed or held.
+      if (c->num_obstacle_dofs() > model_.settings.spatial_dim()) {
+        const Vec3 mo = a.obstacle_moment(*c);
         csv_ += fmt::format("{},{},{:.10g},{:.10g},obstacle_moment:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1,
-                            rec.increment, rec.time, rec.fraction, c->settings().name, 0.0, 0.0, a.obstacle_moment(*c));
+                            rec.increment, rec.time, rec.fraction, c->settings().name, mo(0), mo(1), mo(2));
+      }
     }
-  // A turning rigid body: the moment about z on its angle (prescribed or held), along z.
+  // A turning rigid body: the moment on its rotation (prescribed or held) about its reference node.
   for (size_t b : a.turning_bodies()) {
     const std::string& name = model_.bodies[b]->name();
+    const Vec3 mo = a.body_moment(name);
     csv_ += fmt::format("{},{},{:.10g},{:.10g},body_moment:{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment,
-                        rec.time, rec.fraction, name, 0.0, 0.0, a.body_moment(name));
+                        rec.time, rec.fraction, name, mo(0), mo(1), mo(2));
   }
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   write_contact_csv(a, rec);

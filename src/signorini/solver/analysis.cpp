@@ -123,15 +123,19 @@ Analysis::Analysis(Model& model)
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
-  // Meshed rigid bodies that turn (plane problems): an angle each, about the first reference
-  // node; contact reaches it through the chain rule (RigidRotations).
+  // Meshed rigid bodies that turn: an angle each about the first reference node in plane
+  // problems, a rotation vector in 3D; contact reaches them through the chain rule
+  // (RigidRotations).
+  const int sdim = model.settings.spatial_dim();
+  rotations_.angles = sdim == 3 ? 3 : 1;
   rotations_.reference = &model.mesh.nodes;
   rotations_.body_of_node.assign(model.mesh.num_nodes(), -1);
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = *model.bodies[b];
     if (!body.rigid() || !body.turns() || body.reference_nodes().empty()) continue;
     const int k = static_cast<int>(rotations_.dof.size());
-    rotations_.dof.push_back(unknowns++);
+    rotations_.dof.push_back(unknowns);
+    unknowns += rotations_.angles;
     rotations_.ref.push_back(model.mesh.nodes[body.reference_nodes()[0]]);
     turning_bodies_.push_back(b);
     for (const ElementBlock& blk : body.blocks())
@@ -143,29 +147,31 @@ Analysis::Analysis(Model& model)
   // A turning obstacle's angle: its row is a moment, measured in the norms as a force at the
   // obstacle's radius (a plane: at its farthest slave node), so that a distant contact point
   // does not inflate the force scale. A turning rigid body's likewise, at its farthest node.
-  const int sdim = model.settings.spatial_dim();
   for (size_t k = 0; k < turning_bodies_.size(); ++k) {
     Real L = 0;
     for (Index n = 0; n < model.mesh.num_nodes(); ++n)
       if (rotations_.body_of_node[n] == static_cast<int>(k))
         L = std::max(L, (model.mesh.nodes[n] - rotations_.ref[k]).norm());
-    moment_rows_.emplace_back(rotations_.dof[k], L > 0 ? 1 / L : 1.0);
+    for (int i = 0; i < rotations_.angles; ++i) moment_rows_.emplace_back(rotations_.dof[k] + i, L > 0 ? 1 / L : 1.0);
   }
   for (const auto& c : contacts_) {
     if (!c->rigid() || c->num_obstacle_dofs() <= sdim) continue;
     const RigidObstacle& ob = c->settings().obstacle;
     Real L = ob.radius;
     for (Index n : c->slave().nodes) L = std::max(L, (model.mesh.nodes[n] - ob.point).norm());
-    moment_rows_.emplace_back(c->obstacle_dofs() + sdim, L > 0 ? 1 / L : 1.0);
+    for (int i = sdim; i < c->num_obstacle_dofs(); ++i) moment_rows_.emplace_back(c->obstacle_dofs() + i, L > 0 ? 1 / L : 1.0);
   }
   u_ = VecX::Zero(unknowns);
   u_converged_ = u_;
   reactions_ = u_;
   constrained_.assign(unknowns, 0);
-  // Follower pressure makes the tangent unsymmetric.
+  // Follower pressure makes the tangent unsymmetric, and so does a moment in 3D (its work on
+  // the rotation vector, T(theta)^T M, has an unsymmetric derivative).
   for (auto& s : model.steps)
-    for (auto& l : s.loads)
+    for (auto& l : s.loads) {
       if (l.kind == LoadKind::pressure && model.settings.finite_strain) symmetric_ = body_symmetric_ = false;
+      if (l.moment && sdim == 3) symmetric_ = body_symmetric_ = false;
+    }
   is_multiplier_.assign(unknowns, 0);
   for (auto& c : contacts_)
     for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
@@ -186,7 +192,7 @@ std::vector<Vec3> Analysis::positions(const VecX& u) const {
       const int k = rotations_.body_of_node[n];
       if (k < 0 || !dofs_.has_dofs(n)) continue;
       const Vec3 X = model_.mesh.nodes[n] - rotations_.ref[k];
-      x[n] = x[n] - X + rotation_z(u(rotations_.dof[k])) * X;
+      x[n] = x[n] - X + rotation(u.data() + rotations_.dof[k], rotations_.angles).R * X;
     }
   return x;
 }
@@ -211,6 +217,16 @@ void Analysis::detect_contact(Real max_step) {
 void Analysis::rebuild_pattern() {
   std::vector<std::vector<Index>> couplings;
   for (auto& c : contacts_) c->couplings(dofs_, couplings);
+  // The angles of a body or obstacle couple with each other (a moment's load stiffness in 3D).
+  for (Index first : rotations_.dof) {
+    couplings.emplace_back();
+    for (int i = 0; i < rotations_.angles; ++i) couplings.back().push_back(first + i);
+  }
+  for (auto& c : contacts_)
+    if (c->rigid() && c->num_obstacle_dofs() > 0) {
+      couplings.emplace_back();
+      for (int i = 0; i < c->num_obstacle_dofs(); ++i) couplings.back().push_back(c->obstacle_dofs() + i);
+    }
   if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
   backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
@@ -276,7 +292,8 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
       }
       case LoadKind::body_moment:
         for (size_t k = 0; k < turning_bodies_.size(); ++k)
-          if (model_.bodies[turning_bodies_[k]]->name() == l.set && l.moment) fext(rotations_.dof[k]) += scale * *l.moment;
+          if (model_.bodies[turning_bodies_[k]]->name() == l.set && l.moment)
+            add_moment(rotations_.dof[k], rotations_.angles, *l.moment, scale, fext, tangent);
         break;
       case LoadKind::obstacle_force:
         for (auto& c : contacts_) {
@@ -284,11 +301,40 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
           const int sd = model_.settings.spatial_dim();
           if (l.obstacle_translations)
             for (int i = 0; i < sd; ++i) fext(c->obstacle_dofs() + i) += scale * l.vector(i);
-          if (l.moment && c->num_obstacle_dofs() > sd) fext(c->obstacle_dofs() + sd) += scale * *l.moment;
+          if (l.moment && c->num_obstacle_dofs() > sd)
+            add_moment(c->obstacle_dofs() + sd, c->num_obstacle_dofs() - sd, *l.moment, scale, fext, tangent);
         }
         break;
     }
   }
+}
+
+void Analysis::add_moment(Index first, int n, const Vec3& M, Real scale, VecX& fext, bool tangent) {
+  const Rotation rot = rotation(u_.data() + first, n);
+  const Mat3 T = rot.T();
+  for (int i = 0; i < n; ++i) fext(first + i) += scale * T.col(i).dot(M);
+  if (!tangent || n == 1) return;  // about z the work is M theta: no stiffness
+  const auto dT = rot.dT();
+  MatX k(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) k(i, j) = -scale * dT[j].col(i).dot(M);
+  std::vector<Index> dofs(n);
+  for (int i = 0; i < n; ++i) dofs[i] = first + i;
+  backend_->matrix().add(dofs.data(), n, k);
+}
+
+Vec3 Analysis::rotation_of(Index first, int n) const {
+  Vec3 r = Vec3::Zero();
+  for (int i = 0; i < n; ++i) r(rotation_component(i, n)) = u_(first + i);
+  return r;
+}
+
+Vec3 Analysis::moment_of(Index first, int n) const {
+  if (n == 1) return Vec3(0, 0, reactions_(first));
+  const Mat3 T = rotation(u_.data() + first, n).T();
+  Vec3 f;
+  for (int i = 0; i < 3; ++i) f(i) = reactions_(first + i);
+  return T.transpose().partialPivLu().solve(f);
 }
 
 Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
@@ -431,25 +477,31 @@ void Analysis::begin_step(int s) {
     for (int i = 0; i < c->num_obstacle_dofs(); ++i) {
       const Index dof = c->obstacle_dofs() + i;
       std::optional<Real> value;
-      for (const auto& om : step.obstacles)
-        if (const auto& v = i < sdim ? om.u[i] : om.rotation; om.pair == c->settings().name && v) value = v;
+      for (const auto& om : step.obstacles) {
+        if (om.pair != c->settings().name) continue;
+        if (i < sdim && om.u[i]) value = om.u[i];
+        if (i >= sdim && om.rotation)
+          value = (*om.rotation)(rotation_component(i - sdim, c->num_obstacle_dofs() - sdim));
+      }
       if (!value && (i < sdim ? forced : turned)) continue;  // free, driven by the force or the moment
       prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
       constrained_[dof] = 1;
     }
   }
-  // Turning rigid bodies: the angle prescribed, loaded by a moment, or held.
+  // Turning rigid bodies: the rotation prescribed, loaded by a moment, or held.
   for (size_t k = 0; k < turning_bodies_.size(); ++k) {
     const std::string& name = model_.bodies[turning_bodies_[k]]->name();
-    const Index dof = rotations_.dof[k];
-    std::optional<Real> value;
+    std::optional<Vec3> value;
     for (const auto& t : step.body_turns)
-      if (t.body == name) value = t.angle;
+      if (t.body == name) value = t.rotation;
     bool turned = false;
     for (const auto& l : step.loads) turned = turned || (l.kind == LoadKind::body_moment && l.set == name);
     if (!value && turned) continue;  // free, driven by the moment
-    prescribed_.push_back({dof, u_(dof), value ? *value : u_(dof)});
-    constrained_[dof] = 1;
+    for (int i = 0; i < rotations_.angles; ++i) {
+      const Index dof = rotations_.dof[k] + i;
+      prescribed_.push_back({dof, u_(dof), value ? (*value)(rotation_component(i, rotations_.angles)) : u_(dof)});
+      constrained_[dof] = 1;
+    }
   }
   std::vector<char> in_contact(model_.mesh.num_nodes(), 0);
   for (const auto& cs : model_.contacts)
@@ -1028,26 +1080,26 @@ Vec3 Analysis::obstacle_displacement(const ContactInterface& c) const {
   return r;
 }
 
-Real Analysis::obstacle_moment(const ContactInterface& c) const {
+Vec3 Analysis::obstacle_moment(const ContactInterface& c) const {
   const int sd = model_.settings.spatial_dim();
-  return c.num_obstacle_dofs() > sd ? reactions_(c.obstacle_dofs() + sd) : 0.0;
+  return c.num_obstacle_dofs() > sd ? moment_of(c.obstacle_dofs() + sd, c.num_obstacle_dofs() - sd) : Vec3::Zero();
 }
 
-Real Analysis::body_rotation(const std::string& body) const {
-  for (size_t k = 0; k < turning_bodies_.size(); ++k)
-    if (model_.bodies[turning_bodies_[k]]->name() == body) return u_(rotations_.dof[k]);
-  return 0;
-}
-
-Real Analysis::body_moment(const std::string& body) const {
-  for (size_t k = 0; k < turning_bodies_.size(); ++k)
-    if (model_.bodies[turning_bodies_[k]]->name() == body) return reactions_(rotations_.dof[k]);
-  return 0;
-}
-
-Real Analysis::obstacle_rotation(const ContactInterface& c) const {
+Vec3 Analysis::obstacle_rotation(const ContactInterface& c) const {
   const int sd = model_.settings.spatial_dim();
-  return c.num_obstacle_dofs() > sd ? u_(c.obstacle_dofs() + sd) : 0.0;
+  return c.num_obstacle_dofs() > sd ? rotation_of(c.obstacle_dofs() + sd, c.num_obstacle_dofs() - sd) : Vec3::Zero();
+}
+
+Vec3 Analysis::body_rotation(const std::string& body) const {
+  for (size_t k = 0; k < turning_bodies_.size(); ++k)
+    if (model_.bodies[turning_bodies_[k]]->name() == body) return rotation_of(rotations_.dof[k], rotations_.angles);
+  return Vec3::Zero();
+}
+
+Vec3 Analysis::body_moment(const std::string& body) const {
+  for (size_t k = 0; k < turning_bodies_.size(); ++k)
+    if (model_.bodies[turning_bodies_[k]]->name() == body) return moment_of(rotations_.dof[k], rotations_.angles);
+  return Vec3::Zero();
 }
 
 std::vector<std::string> Analysis::reaction_sets() const {

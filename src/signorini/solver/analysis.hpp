@@ -99,14 +99,15 @@ class Analysis {
   // Reaction on a rigid obstacle's prescribed or held components, and its displacement.
   Vec3 obstacle_reaction(const ContactInterface& c) const;
   Vec3 obstacle_displacement(const ContactInterface& c) const;
-  // A turning obstacle (plane problems): the reaction moment about z on its angle when the
-  // angle is prescribed or held, and the angle (0 for an obstacle that does not turn).
-  Real obstacle_moment(const ContactInterface& c) const;
-  Real obstacle_rotation(const ContactInterface& c) const;
-  // A turning meshed rigid body (plane problems): its angle, and the reaction moment about z on
-  // it when the angle is prescribed or held (0 for a body that does not turn).
-  Real body_rotation(const std::string& body) const;
-  Real body_moment(const std::string& body) const;
+  // A turning obstacle: the reaction moment on its rotation when the rotation is prescribed or
+  // held, and the rotation (plane problems: the angle about z as the z component; 3D: the
+  // rotation vector, and the moment T^-T f of the angles' generalized reaction f,
+  // geometry/rotation.hpp). Zero for an obstacle that does not turn.
+  Vec3 obstacle_moment(const ContactInterface& c) const;
+  Vec3 obstacle_rotation(const ContactInterface& c) const;
+  // A turning meshed rigid body: the same for its rotation about its reference node.
+  Vec3 body_rotation(const std::string& body) const;
+  Vec3 body_moment(const std::string& body) const;
   // The turning rigid bodies (model order indices) and their angles' unknowns.
   const std::vector<size_t>& turning_bodies() const { return turning_bodies_; }
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
@@ -129,6 +130,12 @@ class Analysis {
   std::vector<size_t> turning_bodies_;   // their model indices, in rotations_'s order
   Real add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
+  // A moment M on the n angles from unknown `first`: its generalized force T^T M and, in 3D
+  // with `tangent`, minus its derivative in the angles into the matrix.
+  void add_moment(Index first, int n, const Vec3& M, Real scale, VecX& fext, bool tangent);
+  // The moment T^-T f of the generalized reaction f on the n angles from unknown `first`.
+  Vec3 moment_of(Index first, int n) const;
+  Vec3 rotation_of(Index first, int n) const;
   AnalysisSummary run_steps();
   void detect_contact(Real max_step);
   // Output pressures from the nodal contact forces of each pair (both passes together).

@@ -604,20 +604,23 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
 };
 
-// A rigid analytic obstacle, moved by its own unknowns: dim translations and, in plane
-// problems, the angle it turns by about its point (its centre). No search, no master nodes.
+// A rigid analytic obstacle, moved by its own unknowns: dim translations and, when a step turns
+// it, the angles it turns by about its point (one about z in plane problems, a rotation vector
+// in 3D; geometry/rotation.hpp). No search, no master nodes.
 class RigidObstacleContact final : public Discretization {
  public:
-  RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim, bool rotates)
-      : ob_(ob), slave_(slave), dim_(dim), rotates_(rotates) {}
+  RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim, int angles)
+      : ob_(ob), slave_(slave), dim_(dim), angles_(angles) {}
   std::string name() const override { return "rigid_obstacle"; }
   void detect(const std::vector<Vec3>&, Real, const std::vector<char>&) override {}
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override { nodes.assign(1, slave_.nodes[j]); }
-  int num_extra_dofs() const override { return dim_ + (rotates_ ? 1 : 0); }
+  int num_extra_dofs() const override { return dim_ + angles_; }
   void set_extra_dofs(Index first) override { first_ = first; }
   Index extra_dofs() const override { return first_; }
   void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const override {
-    rigid_obstacle_constraints(ob_, offset(z), angle(z), first_, rotates_, slave_, x, dim_, std::max(dmax, 1e-300), out);
+    const Rotation rot = rotation_of(z);
+    rigid_obstacle_constraints(ob_, offset(z), turns() ? &rot : nullptr, first_, slave_, x, dim_,
+                               std::max(dmax, 1e-300), out);
   }
   SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const override {
     // The closest point of the obstacle, in the obstacle's frame: relative to its point (the
@@ -625,12 +628,13 @@ class RigidObstacleContact final : public Discretization {
     SlipOrigin o;
     o.valid = c.kind != ConstraintKind::none;
     o.point = x_s - c.gap * c.normal - ob_.point - offset(z);
-    if (rotates_) o.point = rotation_z(-angle(z)) * o.point;
+    if (turns()) o.point = rotation_of(z).R.transpose() * o.point;
     return o;
   }
   void add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX& z, Constraint& c) const override {
-    // d = x_s - (p0 + offset + R(theta) q): dd/dtheta = -J R q, d2d/dtheta2 = R q.
-    const Vec3 rq = rotates_ ? Vec3(rotation_z(angle(z)) * o.point) : o.point;
+    // d = x_s - (p0 + offset + R(theta) q): dd/dtheta_i = -R_,i q, d2d/dtheta_i dtheta_j = -R_,ij q.
+    const Rotation rot = rotation_of(z);
+    const Vec3 rq = turns() ? Vec3(rot.R * o.point) : o.point;
     c.slip = x[c.slave] - (ob_.point + offset(z) + rq);
     c.slip_jacobian.setZero(dim_, c.grad.size());
     const Index first = static_cast<Index>(c.nodes.size()) * dim_;
@@ -639,28 +643,38 @@ class RigidObstacleContact final : public Discretization {
       if (first_ >= 0) c.slip_jacobian(d, first + d) = -1;
     }
     c.slip_hessian.clear();
-    if (first_ >= 0 && rotates_) {
-      const Index t = first + dim_;
-      c.slip_jacobian(0, t) = rq.y();
-      c.slip_jacobian(1, t) = -rq.x();
+    if (first_ >= 0 && turns()) {
       c.slip_hessian.assign(dim_, MatX::Zero(c.grad.size(), c.grad.size()));
-      for (int d = 0; d < dim_; ++d) c.slip_hessian[d](t, t) = rq(d);
+      for (int i = 0; i < angles_; ++i) {
+        const Vec3 di = -(rot.dR[i] * o.point);
+        for (int d = 0; d < dim_; ++d) c.slip_jacobian(d, first + dim_ + i) = di(d);
+        for (int k = 0; k < angles_; ++k) {
+          const Vec3 dik = -(rot.d2R[i][k] * o.point);
+          for (int d = 0; d < dim_; ++d) c.slip_hessian[d](first + dim_ + i, first + dim_ + k) = dik(d);
+        }
+      }
     }
     c.has_slip = true;
   }
 
  private:
+  bool turns() const { return angles_ > 0 && first_ >= 0; }
   Vec3 offset(const VecX& z) const {
     Vec3 o = Vec3::Zero();
     if (first_ >= 0)
       for (int d = 0; d < dim_; ++d) o(d) = z(first_ + d);
     return o;
   }
-  Real angle(const VecX& z) const { return first_ >= 0 && rotates_ ? z(first_ + dim_) : 0.0; }
+  Rotation rotation_of(const VecX& z) const {
+    Real a[3] = {0, 0, 0};
+    if (turns())
+      for (int i = 0; i < angles_; ++i) a[i] = z(first_ + dim_ + i);
+    return rotation(a, angles_ > 0 ? angles_ : 1);
+  }
   RigidObstacle ob_;
   SlaveSurface slave_;
   int dim_;
-  bool rotates_;
+  int angles_;  // 0 (the obstacle only moves), 1 (about z) or 3 (rotation vector)
   Index first_ = -1;
 };
 
@@ -669,10 +683,10 @@ class RigidObstacleContact final : public Discretization {
 std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s, const Mesh& mesh,
                                                     const SlaveSurface& slave, const AnalysisSettings& as) {
   const int dim = as.spatial_dim();
-  // Plane problems: the obstacle turns about z when a step turns it (axisymmetry: it only moves
-  // along the axis; 3D: not yet).
-  const bool rotates = s.turns && (as.dimension == Dimension::plane_strain || as.dimension == Dimension::plane_stress);
-  if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim, rotates);
+  // The obstacle turns when a step turns it: about z in plane problems, by a rotation vector in
+  // 3D (axisymmetry: it only moves along the axis).
+  const int angles = !s.turns || as.dimension == Dimension::axisymmetric ? 0 : (dim == 3 ? 3 : 1);
+  if (s.rigid) return std::make_unique<RigidObstacleContact>(s.obstacle, slave, dim, angles);
   if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
