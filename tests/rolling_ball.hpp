@@ -32,10 +32,13 @@
 // - ease: the rotation free and loaded by the moment (0, 0, 230) N mm: the ball turns back and
 //   the contact forces' moment about the centre balances the moment.
 // In every increment the reaction moment (T^-T of the angles' reactions; with the rotation
-// loaded, the moment load) equals the moment of the contact forces about the ball's centre to
-// 1e-7 P R, the order of the Newton tolerance (1e-8 of the force scale, the moment rows
-// divided by the distance to the farthest slave node, 11.5 mm): the angles' equilibrium. A
-// spin operator T off by the rotation's size (0.13 rad) would miss by 1e-3 P R.
+// loaded, the moment load) equals the moment of the contact forces about the ball's centre,
+// taken here at the slave nodes, to 1e-6 P R: the angles' equilibrium. What separates them is
+// the Newton tolerance (1e-8 of the force scale, the moment rows divided by the distance to
+// the farthest slave node, 11.5 mm) and, on the meshed ball, the friction forces' points of
+// action, their slip origins on the ball, up to a slip increment from the slave nodes (3e-7
+// P R measured, 2.5e-8 on the analytic ball). A spin operator T off by the rotation's size
+// (0.13 rad) would miss by 1e-3 P R.
 namespace signorini::test {
 
 struct BallView {
@@ -49,9 +52,11 @@ struct BallSample {
   int stick = 0, slip = 0;
 };
 
-// Runs the example deck, with the tetrahedra of size `hc` and increments no smaller than
-// `increment` (the default suite's coarse run), and checks it.
-inline void check_ball(const std::string& example, const BallView& view, Real hc, Real increment, Real twist_tolerance) {
+// Runs the example deck, with the tetrahedra of size `hc` where the ball rolls (the .geo's
+// constants `sizes`, e.g. "hc: 0.25", set to it) and increments no smaller than `increment`
+// (the default suite's coarse run), and checks it.
+inline void check_ball(const std::string& example, const BallView& view, Real hc, const std::string& sizes,
+                       Real increment, Real twist_tolerance) {
   namespace fs = std::filesystem;
   log::set_level(log::Level::warning);
   const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example;
@@ -63,7 +68,7 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
   std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string geo = "file: " + example + ".geo}";
   ASSERT_NE(deck.find(geo), std::string::npos);
-  deck.replace(deck.find(geo), geo.size(), "file: " + example + ".geo, parameters: {hc: " + std::to_string(hc) + "}}");
+  deck.replace(deck.find(geo), geo.size(), "file: " + example + ".geo, parameters: {" + sizes + "}}");
   for (size_t at = 0; (at = deck.find("increments: {initial: ", at)) != std::string::npos;) {
     const size_t end = deck.find('}', at);
     const Real initial = std::stod(deck.substr(at + 22));
@@ -81,7 +86,7 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
   const Vec3 d(std::cos(M_PI / 6), std::sin(M_PI / 6), 0), axis(-std::sin(M_PI / 6), std::cos(M_PI / 6), 0);
   Analysis a(m);
   std::vector<BallSample> samples;
-  Real worst_balance = 0;
+  Real worst_balance = 0, worst_at = 0, worst_residual = 0;
   a.on_increment([&](const Analysis& an, const IncrementRecord& rec) {
     const ContactInterface& c = *an.contacts()[0];
     BallSample s;
@@ -108,7 +113,11 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
     // The angles' equilibrium: with the rotation prescribed, the reaction moment is the
     // contact forces'; loaded, the contact forces' moment is the load's.
     const Vec3 held = rec.step == 3 ? Vec3(0, 0, eased * rec.fraction) : s.moment;
-    worst_balance = std::max(worst_balance, (held - s.contact_moment).norm());
+    if ((held - s.contact_moment).norm() > worst_balance) {
+      worst_balance = (held - s.contact_moment).norm();
+      worst_at = rec.step + 1 + 0.01 * rec.increment;
+      worst_residual = rec.residuals.empty() ? 0.0 : rec.residuals.back();
+    }
     samples.push_back(s);
   });
   const AnalysisSummary sum = a.run();
@@ -148,12 +157,12 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
   EXPECT_EQ(tw.stick, 0) << "the whole patch slips";
   // Ease.
   std::printf("ease: rotation (%.5f, %.5f, %.5f), contact moment (%.3g, %.3g, %.3f); %d stick, %d slip; angles' "
-              "balance %.1e of P R\n",
+              "balance %.1e of P R (step.increment %.2f, its last |R|/F %.1e)\n",
               ease.rotation.x(), ease.rotation.y(), ease.rotation.z(), ease.contact_moment.x(), ease.contact_moment.y(),
-              ease.contact_moment.z(), ease.stick, ease.slip, worst_balance / (P * R));
+              ease.contact_moment.z(), ease.stick, ease.slip, worst_balance / (P * R), worst_at, worst_residual);
   EXPECT_LT(ease.rotation.z(), tw.rotation.z()) << "the ball turns back";
-  EXPECT_LT((ease.contact_moment - Vec3(0, 0, eased)).norm(), 1e-7 * P * R);
-  EXPECT_LT(worst_balance, 1e-7 * P * R);
+  EXPECT_LT((ease.contact_moment - Vec3(0, 0, eased)).norm(), 1e-6 * P * R);
+  EXPECT_LT(worst_balance, 1e-6 * P * R);
 }
 
 inline BallView analytic_ball() {
@@ -163,6 +172,15 @@ inline BallView analytic_ball() {
   };
   v.rotation = [](const Analysis& a) { return a.obstacle_rotation(*a.contacts()[0]); };
   v.moment = [](const Analysis& a) { return a.obstacle_moment(*a.contacts()[0]); };
+  return v;
+}
+
+// The ball as a meshed rigid body (examples/rolling_rigid_ball): its centre the reference node.
+inline BallView meshed_ball() {
+  BallView v;
+  v.centre = [](const Analysis& a) { return a.positions(a.displacement())[a.model().mesh.node_sets.at("Centre")[0]]; };
+  v.rotation = [](const Analysis& a) { return a.body_rotation("ball"); };
+  v.moment = [](const Analysis& a) { return a.body_moment("ball"); };
   return v;
 }
 

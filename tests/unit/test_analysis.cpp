@@ -99,6 +99,30 @@ TEST(Analysis, RampsAcrossSteps) {
   EXPECT_NEAR(history.back().second, 0.0, 1e-12);
 }
 
+// `hold` (DirichletCondition::hold): a component kept where the step finds it, whatever it was
+// then: xmax pulled by a force in step 1, then held while the force goes away.
+TEST(Analysis, HoldKeepsAComponentWhereTheStepFindsIt) {
+  Model m = block(Dimension::plane_strain);
+  Step s1, s2;
+  s1.dirichlet = {fix("xmin", 0), fix("ymin", 1)};
+  s1.loads = {load(LoadKind::nodal_force, "xmax", Vec3(1, 0, 0))};
+  s2.dirichlet = s1.dirichlet;
+  DirichletCondition held = fix("xmax", 0);
+  held.hold = true;
+  held.end = 123;  // unused with hold
+  s2.dirichlet.push_back(held);
+  m.steps = {s1, s2};
+  Analysis a(m);
+  std::vector<Real> ux;
+  const Index node = m.mesh.node_sets["xmax"].front();
+  a.on_increment([&](const Analysis& an, const IncrementRecord&) { ux.push_back(an.displacement()(an.dofs().dof(node, 0))); });
+  ASSERT_TRUE(a.run().completed);
+  ASSERT_EQ(ux.size(), 2u);
+  EXPECT_GT(ux[0], 1e-4);
+  EXPECT_EQ(ux[1], ux[0]) << "held where step 1 left it";
+  EXPECT_NEAR(a.reaction_sum("xmax")(0), 1, 1e-9) << "the support now carries the force the load carried";
+}
+
 TEST(Analysis, CutsBackAndRecovers) {
   Model m = block(Dimension::plane_strain, true);
   m.newton.max_iterations = 3;

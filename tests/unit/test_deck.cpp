@@ -525,6 +525,17 @@ TEST(Deck, SelfContactEntries) {
   EXPECT_MESSAGE(m, "self_surface.yaml:", "contact[0].surface", "Nowhere");
 }
 
+// A prescribed value may be `hold`: kept where the step finds it.
+TEST(Deck, HoldIsAPrescribedValue) {
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("hold_good", replace(kGood, "{set: Left, ux: 0}", "{set: Left, u: [hold, 0]}")), r);
+  ASSERT_EQ(m.steps[0].dirichlet.size(), 3u);
+  EXPECT_TRUE(m.steps[0].dirichlet[0].hold);
+  EXPECT_FALSE(m.steps[0].dirichlet[1].hold);
+  auto e = error_of("hold_typo", replace(kGood, "{set: Left, ux: 0}", "{set: Left, ux: held}"));
+  EXPECT_MESSAGE(e, "hold_typo.yaml:", "ux", "number, {ramp: [start, end]} or hold; got 'held'");
+}
+
 // A rigid obstacle that turns (plane problems): rotation in a boundary entry, moment in a load.
 TEST(Deck, TurningObstacleEntries) {
   const std::string roller = "contact:\n  - {name: roller, slave: Top, master: {rigid: cylinder, center: [0.5, 2], "

@@ -23,6 +23,7 @@ struct DirichletCondition {
   std::optional<Real> start;
   Real end = 0;
   std::string where;  // deck location
+  bool hold = false;  // held at the value the step begins with (`hold` in the deck; end unused)
 };
 
 enum class LoadKind { nodal_force, traction, pressure, body_force, centrifugal, obstacle_force, body_moment };

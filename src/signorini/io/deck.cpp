@@ -395,13 +395,18 @@ void read_value(const Node& v, DirichletCondition& d) {
   if (v.node.IsMap()) {
     v.expect_map();
     for (auto it = v.node.begin(); it != v.node.end(); ++it)
-      if (it->first.as<std::string>() != "ramp") v.fail("a prescribed value is a number or {ramp: [start, end]}");
+      if (it->first.as<std::string>() != "ramp") v.fail("a prescribed value is a number, {ramp: [start, end]} or hold");
     Node r = v.child("ramp");
     r.expect_list();
     if (r.node.size() != 2) r.fail("expected [start, end]");
     d.start = r.at(0).as_number();
     d.end = r.at(1).as_number();
+  } else if (v.node.IsScalar() && v.node.Scalar() == "hold") {
+    d.hold = true;  // where the step finds it
   } else {
+    Real x = 0;
+    if (v.node.IsScalar() && !YAML::convert<Real>::decode(v.node, x))
+      v.fail("a prescribed value is a number, {ramp: [start, end]} or hold; got '" + v.node.Scalar() + "'");
     d.end = v.as_number();
   }
 }

@@ -261,8 +261,8 @@ void register_deck_sections(Registry& r) {
           number("max", "largest increment", "1", 0, 1, true, false),
           number("max_count", "largest number of increments in the step", "10000", 1, 1e9)}});
   r.add({"deck", "boundary", "Prescribed displacement on a node set: {set, u: [..]} or {set, ux|uy|uz: value}. A "
-                             "value is a number (reached at the end of the step, ramped from the value at its start) or "
-                             "{ramp: [start, end]}.",
+                             "value is a number (reached at the end of the step, ramped from the value at its start), "
+                             "{ramp: [start, end]}, or hold (kept at the value the step begins with; ~ leaves it free).",
          {opt(text("set", "node set (physical group)", std::nullopt)),
           opt(text("contact", "instead of set: a contact pair whose rigid obstacle moves by u", std::nullopt)),
           opt(text("u", "all components", std::nullopt, ParamKind::vector)),

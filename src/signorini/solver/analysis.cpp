@@ -404,9 +404,11 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
   }
   summary_.contact_seconds += contact_time;
   summary_.assembly_seconds += t.seconds() - contact_time;
-  // The force scale leaves the moment rows out: a moment's size follows its lever arm, which
-  // a body sliding away along a turning obstacle makes as large as it likes.
-  const Real scale = std::max({force_norm(fint, false), force_norm(fext, false), force_norm(fc, false), lift_force});
+  // The force scale leaves the moment rows of the reactions out: a moment's size follows its
+  // lever arm, which a body sliding away along a turning obstacle makes as large as it likes.
+  // An applied moment counts (as a force at the body's size): a body loaded by a moment alone
+  // has no other force to measure its residual by.
+  const Real scale = std::max({force_norm(fint, false), force_norm(fext, true), force_norm(fc, false), lift_force});
   stab_ratio_ = scale > 0 ? stab_force / scale : 0;
   return scale;
 }
@@ -452,7 +454,7 @@ void Analysis::begin_step(int s) {
     for (Index node : model_.mesh.node_sets.at(d.set)) {
       const Index dof = dofs_.dof(node, d.component);
       if (dof < 0) continue;
-      Prescribed p{dof, d.start ? *d.start : u_(dof), d.end};
+      Prescribed p{dof, d.start ? *d.start : u_(dof), d.hold ? u_(dof) : d.end};
       if (where[dof] >= 0) prescribed_[where[dof]] = p;  // a later condition wins
       else {
         where[dof] = static_cast<Index>(prescribed_.size());
@@ -655,6 +657,27 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
   summary_.solve_seconds += ts.seconds();
 }
 
+void Analysis::limit_turn(VecX& du) const {
+  // The largest turn of one Newton step, 0.1 rad: a body turned by a moment whose contact
+  // slips everywhere has next to no rotational stiffness in the step's tangent, and the full
+  // step would spin it off its contact (or, in 3D, onto the rotation vector's singularity at
+  // an angle of 2 pi, where the moment's work T^T M vanishes).
+  constexpr Real kMaxTurn = 0.1;
+  Real turn = 0;
+  auto measure = [&](Index first, int n) {
+    Real t = 0;
+    for (int i = 0; i < n; ++i) t += du(first + i) * du(first + i);
+    turn = std::max(turn, std::sqrt(t));
+  };
+  for (Index first : rotations_.dof) measure(first, rotations_.angles);
+  const int sd = model_.settings.spatial_dim();
+  for (const auto& c : contacts_)
+    if (c->rigid() && c->num_obstacle_dofs() > sd) measure(c->obstacle_dofs() + sd, c->num_obstacle_dofs() - sd);
+  if (!(turn > kMaxTurn)) return;
+  log::info("    a rigid body would turn by {:.3g} rad in one Newton step: the step is scaled to {} rad", turn, kMaxTurn);
+  du *= kMaxTurn / turn;
+}
+
 std::vector<char> Analysis::contact_statuses() const {
   std::vector<char> s;
   for (const auto& c : contacts_) {
@@ -796,6 +819,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     for (int it = 1; it - st.cycle_start < ns.max_iterations; ++it) {
       if (const int sig = interrupt_signal()) throw Interrupted(sig);
       solve_newton_step(it, ns, R, du, rec);
+      limit_turn(du);
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
       const std::vector<char> statuses = within_active_set ? contact_statuses() : std::vector<char>();
