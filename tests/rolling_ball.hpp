@@ -7,13 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <string>
 
-#include <unistd.h>
-
+#include "example_deck.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/solver/analysis.hpp"
@@ -59,28 +56,11 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
                        Real increment, Real twist_tolerance) {
   namespace fs = std::filesystem;
   log::set_level(log::Level::warning);
-  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example;
-  const fs::path tmp = fs::temp_directory_path() / ("signorini_" + example + "_" + std::to_string(::getpid()));
-  fs::create_directories(tmp);
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".geo") fs::copy_file(e.path(), tmp / e.path().filename(), fs::copy_options::overwrite_existing);
-  std::ifstream in(dir / (example + ".yaml"));
-  std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string geo = "file: " + example + ".geo}";
-  ASSERT_NE(deck.find(geo), std::string::npos);
-  deck.replace(deck.find(geo), geo.size(), "file: " + example + ".geo, parameters: {" + sizes + "}}");
-  for (size_t at = 0; (at = deck.find("increments: {initial: ", at)) != std::string::npos;) {
-    const size_t end = deck.find('}', at);
-    const Real initial = std::stod(deck.substr(at + 22));
-    if (initial < increment)
-      deck.replace(at, end - at + 1, "increments: {initial: " + std::to_string(increment) + ", max: " + std::to_string(increment) + "}");
-    ++at;
-  }
-  std::ofstream(tmp / (example + ".yaml")) << deck;
+  const ExampleDeck ex = example_deck_with(example, sizes, increment);
   Registry r = default_registry();
-  Model m = read_deck((tmp / (example + ".yaml")).string(), r);
+  Model m = read_deck(ex.deck.string(), r);
   m.output.vtu = "none";
-  m.output.directory = (tmp / "results").string();
+  m.output.directory = (ex.dir / "results").string();
   const Real R = 10, E = 200e3, nu = 0.3, mu = 0.3, psi = 0.1, twist = 0.1, eased = 230;
   const Real Estar = E / (1 - nu * nu);
   const Vec3 d(std::cos(M_PI / 6), std::sin(M_PI / 6), 0), axis(-std::sin(M_PI / 6), std::cos(M_PI / 6), 0);
@@ -121,7 +101,7 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
     samples.push_back(s);
   });
   const AnalysisSummary sum = a.run();
-  fs::remove_all(tmp);
+  fs::remove_all(ex.dir);
   ASSERT_TRUE(sum.completed) << sum.failure;
   auto last_of = [&](int step) {
     BallSample s;

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tube_slice.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/solver/analysis.hpp"
@@ -118,4 +119,10 @@ TEST(SelfContact, TubeCrushedUntilItsInnerWallTouchesItself) {
       shape << wall << "," << std::atan2(X.y(), X.x()) << "," << x[n].x() << "," << x[n].y() << ","
             << int(is_closed[n]) << "\n";
     }
+}
+
+// 3D self-contact: the tube as a slice of hexahedra gives the plane strain tube's answer
+// (tests/tube_slice.hpp), on linear cells, 24 and 20 along the wall.
+TEST(SelfContact, TubeSliceIn3DFoldsAsThePlaneStrainTube) {
+  test::compare_tube_slice_with_plane_strain("order: 1, nu: 24, nl: 20", 2);
 }
