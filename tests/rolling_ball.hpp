@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 
@@ -143,6 +144,14 @@ inline void check_ball(const std::string& example, const BallView& view, Real hc
   EXPECT_LT(ease.rotation.z(), tw.rotation.z()) << "the ball turns back";
   EXPECT_LT((ease.contact_moment - Vec3(0, 0, eased)).norm(), 1e-6 * P * R);
   EXPECT_LT(worst_balance, 1e-6 * P * R);
+  // The twist's curve for docs/validation.md (examples/rolling_cylinder/plot.py).
+  const fs::path dir = fs::path(SIGNORINI_BINARY_DIR) / "curves";
+  fs::create_directories(dir);
+  std::ofstream out(dir / (example + ".csv"));
+  out << "step,rotation_z,moment_z,contact_moment_z,P,stick,slip\n";
+  for (const BallSample& x : samples)
+    out << x.step << "," << x.rotation.z() << "," << x.moment.z() << "," << x.contact_moment.z() << "," << x.P << ","
+        << x.stick << "," << x.slip << "\n";
 }
 
 inline BallView analytic_ball() {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "common.hpp"
 #include "signorini/core/log.hpp"
@@ -291,4 +292,12 @@ TEST(MultiBody, PlateStackPairsAndEquilibrium) {
               -worst_gap, s.total_iterations);
   EXPECT_GT(worst_gap, -1e-9);
   EXPECT_GT(stick + slip, 20);
+  // The interfaces' pressure and status for docs/validation.md (examples/plate_stack/plot.py).
+  const fs::path dir = fs::path(SIGNORINI_BINARY_DIR) / "curves";
+  fs::create_directories(dir);
+  std::ofstream out(dir / "plate_stack.csv");
+  out << "pair,x,pressure,status\n";
+  for (const auto& c : a.contacts())
+    for (const auto& st : c->slave_states())
+      out << c->settings().name << "," << m.mesh.nodes[st.node].x() << "," << st.pressure << "," << st.status << "\n";
 }

@@ -141,6 +141,14 @@ void check_roller(const std::string& example, const RollerView& view, Real creep
   std::printf("creep against free rolling %.5f, Carter %.5f (%+.0f %%)\n", creep, carter, 100 * (creep / carter - 1));
   EXPECT_LT(creep, 0);
   EXPECT_NEAR(creep, carter, creep_tolerance * std::abs(carter));
+  // The curves for docs/validation.md (examples/rolling_cylinder/plot.py).
+  const fs::path dir = fs::path(SIGNORINI_BINARY_DIR) / "curves";
+  fs::create_directories(dir);
+  std::ofstream out(dir / (example + ".csv"));
+  out << "step,turn,advance,moment,contact_moment,P,Q\n";
+  for (const Sample& x : samples)
+    out << x.step << "," << -(x.theta - press.theta) << "," << x.ux - press.ux << "," << x.moment << ","
+        << x.contact_moment << "," << x.P << "," << x.Qx << "\n";
 }
 
 }  // namespace
