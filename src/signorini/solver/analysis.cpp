@@ -662,11 +662,13 @@ void Analysis::limit_turn(VecX& du) const {
   // slips everywhere has next to no rotational stiffness in the step's tangent, and the full
   // step would spin it off its contact (or, in 3D, onto the rotation vector's singularity at
   // an angle of 2 pi, where the moment's work T^T M vanishes).
+  // Prescribed angles are left out: their step is the prescribed one, taken whole.
   constexpr Real kMaxTurn = 0.1;
   Real turn = 0;
   auto measure = [&](Index first, int n) {
     Real t = 0;
-    for (int i = 0; i < n; ++i) t += du(first + i) * du(first + i);
+    for (int i = 0; i < n; ++i)
+      if (!constrained_[first + i]) t += du(first + i) * du(first + i);
     turn = std::max(turn, std::sqrt(t));
   };
   for (Index first : rotations_.dof) measure(first, rotations_.angles);

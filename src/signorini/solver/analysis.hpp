@@ -165,7 +165,8 @@ class Analysis {
   // The Newton step du from J du = R (condensed contact multipliers when possible); throws
   // FatalModelError for a model without supports.
   void solve_newton_step(int it, const NewtonSettings& ns, const VecX& R, VecX& du, IncrementRecord& rec);
-  // Scales a Newton step whose turn of a rigid body or obstacle exceeds 0.1 rad down to that.
+  // Scales a Newton step whose turn of a rigid body or obstacle (its free angles) exceeds
+  // 0.1 rad down to that.
   void limit_turn(VecX& du) const;
   // u = u0 + alpha du with backtracking on |R|; returns alpha (Rtrial: the residual there).
   Real line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm, VecX& Rtrial,
