@@ -569,6 +569,33 @@ TEST(Deck, TurningObstacleEntries) {
   EXPECT_MESSAGE(e, "turn_text.yaml:", "rotation");
 }
 
+// In 3D a rotation and a moment are vectors (the rotation vector: axis times angle): a number
+// is refused, a vector read whole (examples/rolling_ball's mesh).
+TEST(Deck, TurningIn3DTakesVectors) {
+  const std::string geo = std::string(SIGNORINI_SOURCE_DIR) + "/examples/rolling_ball/rolling_ball.geo";
+  const std::string deck = "title: ball\nanalysis: {dimension: 3d}\nmesh: {file: " + geo + ", parameters: {hc: 1.0}}\n"
+                           "materials:\n  steel: {model: linear_elastic, E: 200e3, nu: 0.3}\n"
+                           "bodies:\n  - {name: block, region: Block, material: steel}\n"
+                           "contact:\n  - {name: ball, slave: Top, master: {rigid: sphere, center: [0, 0, 10], radius: 10}}\n"
+                           "steps:\n  - name: roll\n    boundary:\n      - {set: Bottom, u: [0, 0, 0]}\n"
+                           "      - {contact: ball, u: [~, ~, -0.03], rotation: [-0.05, 0.08, 0.01]}\n"
+                           "    loads:\n      - {contact: ball, force: [0, 0, 0]}\n";
+  Registry r = default_registry();
+  Model m = read_deck(write_deck("turn3d_good", deck), r);
+  ASSERT_EQ(m.steps[0].obstacles.size(), 1u);
+  ASSERT_TRUE(m.steps[0].obstacles[0].rotation.has_value());
+  EXPECT_EQ(*m.steps[0].obstacles[0].rotation, Vec3(-0.05, 0.08, 0.01));
+  EXPECT_TRUE(m.contacts[0].turns);
+  auto e = error_of("turn3d_number", replace(deck, "rotation: [-0.05, 0.08, 0.01]", "rotation: 0.1"));
+  EXPECT_MESSAGE(e, "turn3d_number.yaml:", "rotation", "in 3D, 'rotation' is a vector [x, y, z]", "axis times angle");
+  e = error_of("turn3d_two", replace(deck, "rotation: [-0.05, 0.08, 0.01]", "rotation: [0.1, 0.2]"));
+  EXPECT_MESSAGE(e, "turn3d_two.yaml:", "rotation", "vector [x, y, z]");
+  e = error_of("turn3d_moment", replace(deck, "force: [0, 0, 0]}", "force: [0, 0, 0], moment: 5}"));
+  EXPECT_MESSAGE(e, "turn3d_moment.yaml:", "moment", "in 3D, 'moment' is a vector [x, y, z]");
+  m = read_deck(write_deck("turn3d_mvector", replace(deck, "force: [0, 0, 0]}", "force: [0, 0, 0], moment: [1, 2, 3]}")), r);
+  EXPECT_EQ(*m.steps[0].loads[0].moment, Vec3(1, 2, 3));
+}
+
 // The centrifugal load: a body, the axis by dimension, keys checked.
 TEST(Deck, CentrifugalLoadErrors) {
   const std::string spin = "    loads:\n      - {body: plate, centrifugal: {density: 7800, omega: 100}}\n";
