@@ -40,6 +40,20 @@ Vec3 first_moments(const std::vector<Vec3>& p) {
   return m;
 }
 
+// The largest committed equivalent plastic strain of the analysis's bodies.
+Real max_plastic_strain(const Analysis& an) {
+  Real ep = 0;
+  for (size_t b = 0; b < an.model().bodies.size(); ++b) {
+    const QuadratureHistory& h = an.history(b);
+    const auto& names = h.names();
+    const auto it = std::find(names.begin(), names.end(), "equivalent_plastic_strain");
+    if (it == names.end()) continue;
+    const size_t k = static_cast<size_t>(it - names.begin());
+    for (size_t i = k; i < h.committed_values().size(); i += names.size()) ep = std::max(ep, h.committed_values()[i]);
+  }
+  return ep;
+}
+
 struct FlankState {
   std::vector<Real> s, pressure, slip;  // along the flank from its outer end, per slave node
 };
@@ -60,18 +74,6 @@ TEST(Dovetail, BladeHeldByItsFlanksThroughASpinUpAndDown) {
   Analysis a(m);
   Real peak_fy = 0, peak_fx = 0, peak_sym = 0, rest_fy = 0, peak_ep = 0, rest_ep = 0;
   FlankState at_speed, at_rest;
-  auto max_plastic_strain = [&](const Analysis& an) {
-    Real ep = 0;
-    for (size_t b = 0; b < m.bodies.size(); ++b) {
-      const QuadratureHistory& h = an.history(b);
-      const auto& names = h.names();
-      const auto it = std::find(names.begin(), names.end(), "equivalent_plastic_strain");
-      if (it == names.end()) continue;
-      const size_t k = static_cast<size_t>(it - names.begin());
-      for (size_t i = k; i < h.committed_values().size(); i += names.size()) ep = std::max(ep, h.committed_values()[i]);
-    }
-    return ep;
-  };
   auto flank = [&](const Analysis& an) {
     FlankState f;
     const ContactInterface& c = *an.contacts()[0];
@@ -171,18 +173,6 @@ TEST(Dovetail, ThreeDSectorHeldByItsFlanksThroughASpinUpAndDown) {
   Analysis a(m);
   Vec3 peak_f = Vec3::Zero(), rest_f = Vec3::Zero();
   Real peak_sym = 0, peak_mid = 0, peak_ep = 0, rest_ep = 0, mid_layer = 0, face_layer = 0;
-  auto max_plastic_strain = [&](const Analysis& an) {
-    Real ep = 0;
-    for (size_t b = 0; b < m.bodies.size(); ++b) {
-      const QuadratureHistory& hist = an.history(b);
-      const auto& names = hist.names();
-      const auto it = std::find(names.begin(), names.end(), "equivalent_plastic_strain");
-      if (it == names.end()) continue;
-      const size_t k = static_cast<size_t>(it - names.begin());
-      for (size_t i = k; i < hist.committed_values().size(); i += names.size()) ep = std::max(ep, hist.committed_values()[i]);
-    }
-    return ep;
-  };
   a.on_increment([&](const Analysis& an, const IncrementRecord& rec) {
     if (rec.fraction < 1) return;
     const ContactInterface& c = *an.contacts()[0];
