@@ -186,14 +186,17 @@ std::vector<Vec3> Analysis::positions(const VecX& u) const {
   for (Index n = 0; n < dofs_.num_nodes(); ++n)
     if (dofs_.has_dofs(n))
       for (int d = 0; d < dim; ++d) x[n](d) += u(dofs_.dof(n, d));
-  // A turning rigid body's nodes: x = X_ref + u_ref + R(theta) (X - X_ref).
-  if (!turning_bodies_.empty())
+  // A turning rigid body's nodes: x = X_ref + u_ref + R(theta) (X - X_ref), R once per body.
+  if (!turning_bodies_.empty()) {
+    std::vector<Mat3> R;
+    for (Index first : rotations_.dof) R.push_back(rotation(u.data() + first, rotations_.angles).R);
     for (Index n = 0; n < dofs_.num_nodes(); ++n) {
       const int k = rotations_.body_of_node[n];
       if (k < 0 || !dofs_.has_dofs(n)) continue;
       const Vec3 X = model_.mesh.nodes[n] - rotations_.ref[k];
-      x[n] = x[n] - X + rotation(u.data() + rotations_.dof[k], rotations_.angles).R * X;
+      x[n] = x[n] - X + R[k] * X;
     }
+  }
   return x;
 }
 
