@@ -49,9 +49,10 @@ struct TwoCurves {
     if (hess) hess->setZero(n2, n2);
     Real g = 0;
     MortarMeasure ms;
-    for (Index e = 0; e < slave.size(); ++e)
-      for (Index m = 0; m < master.size(); ++m) {
-        MortarFacetResult r = mortar_facet_2d(slave, e, master, m, x, ms, grad != nullptr);
+    std::vector<Index> all(static_cast<size_t>(master.size()));
+    for (Index m = 0; m < master.size(); ++m) all[m] = m;
+    for (Index e = 0; e < slave.size(); ++e) {
+        MortarFacetResult r = mortar_element_2d(slave, e, master, all, x, ms, grad != nullptr);
         if (!r.overlap) continue;
         if (length && j == 0) *length += r.segment_length;
         for (size_t k = 0; k < slave.facets[e].size(); ++k) {
@@ -135,3 +136,4 @@ TEST(Mortar, WeightedGapIsSmoothWhereMasterNodesCrossSlaveNodes) {
   EXPECT_NEAR(va, vb, 1e-6 * std::abs(va));  // the shift moves it by about 2e-10
   EXPECT_LT((ga - gb).cwiseAbs().maxCoeff(), 1e-5 * ga.cwiseAbs().maxCoeff());
 }
+

@@ -96,17 +96,26 @@ const std::vector<Rule>& rules() {
        [](const ContactCombination&) {
          return std::string("a sphere needs an axisymmetric or 3D analysis (use a cylinder in plane problems)");
        }},
-      {"self-contact other than node_to_segment, one pass, without smoothing",
+      {"self-contact other than node_to_segment or mortar, one pass, without smoothing",
        [](const ContactCombination& c) {
-         return c.self && (c.discretization != "node_to_segment" || c.passes != 1 || c.smoothing != "none");
+         return c.self && ((c.discretization != "node_to_segment" && c.discretization != "mortar") || c.passes != 1 ||
+                           c.smoothing != "none");
        },
        "self",
        [](const ContactCombination& c) {
-         if (c.discretization != "node_to_segment")
-           return std::string("self-contact is node_to_segment only so far (mortar and segment_to_segment: not yet)");
+         if (c.discretization != "node_to_segment" && c.discretization != "mortar")
+           return std::string("self-contact is node_to_segment or mortar (2D) so far (segment_to_segment: not yet)");
          if (c.passes != 1)
            return std::string("self-contact has one pass: every node of the surface is slave already");
          return std::string("self-contact has no smoothing so far (the surface stays faceted)");
+       }},
+      {"self-contact with mortar and Lagrange multipliers",
+       [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && c.method == "lagrange"; },
+       "enforcement",
+       [](const ContactCombination&) {
+         return std::string("self-contact with mortar integrates both sides of a fold against each other (two half "
+                            "passes), whose constraints are redundant where the walls close, which multipliers cannot "
+                            "take: use enforcement penalty or augmented_lagrangian, or node_to_segment");
        }},
       {"two passes other than node_to_segment",
        [](const ContactCombination& c) { return c.passes == 2 && c.discretization != "node_to_segment"; }, "passes",

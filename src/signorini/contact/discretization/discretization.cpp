@@ -452,10 +452,26 @@ class NodeToNode final : public DeformableMaster {
 // g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that
 // enforcement's force p w_j grad(g~_j / w_j) = p grad g~_j is the mortar virtual work with
 // the nodal pressure p as the dual multiplier.
+//
+// Self-contact (ContactPairSettings::self): the surface's facets are slave and master at once.
+// A slave facet's candidates are the facets within d_max (boxes) that face it and are not in
+// its two-ring (the facets sharing a node with a facet that shares a node with it: always within
+// reach, never a partner), as in SelfNodeToSegment. Both sides of a fold then integrate
+// against each other, as two passes would (Yang and Laursen 2008, "A large deformation mortar
+// formulation of self contact with finite sliding", CMAME 197, integrate both sides with half
+// the pressure each): every node's constraint has its full weight, as in SelfNodeToSegment, so
+// that its reported pressure (its nodal force over its weight, both passes' forces) is the
+// contact pressure; with penalty the two passes make the interface twice as stiff as one pass.
+// The passes' constraints are redundant where the walls close (equal on matching meshes),
+// which multipliers cannot take: penalty or the augmented Lagrangian (compatibility.cpp),
+// whose Uzawa updates converge to the total pressure. Where a master covers a slave facet only
+// in part (the fold's ends, the facets beyond d_max) the dual basis is built on the covered
+// part (mortar.hpp); line3 facets use the transformed basis whose functions are non-negative,
+// with the node weights of that basis.
 class Mortar final : public DeformableMaster {
  public:
   Mortar(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, const AnalysisSettings& as)
-      : DeformableMaster(s, mesh, slave, as.spatial_dim()) {
+      : DeformableMaster(s, mesh, slave, as.spatial_dim()), self_(s.self) {
     if (dim_ != 2) throw Error("contact '" + s.name + "': mortar is available in 2D only so far");
     measure_.axisymmetric = as.dimension == Dimension::axisymmetric;
     measure_.thickness = as.thickness;
@@ -463,11 +479,26 @@ class Mortar final : public DeformableMaster {
     index_.assign(mesh.num_nodes(), -1);
     for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
     candidates_.assign(slave_facets_.size(), {});
+    if (self_) {
+      std::vector<Real> w;
+      mortar_slave_weights(slave_facets_, mesh.nodes, measure_, true, w);
+      for (size_t j = 0; j < slave_.nodes.size(); ++j) slave_.weights[j] = w[slave_.nodes[j]];
+      excluded_.resize(slave_facets_.size());
+      for (Index e = 0; e < slave_facets_.size(); ++e) {
+        std::set<Index> ex;
+        for (Index n : slave_facets_.facets[e])
+          for (Index f : slave_facets_.node_facets[n])
+            for (Index m : slave_facets_.facets[f])
+              for (Index g : slave_facets_.node_facets[m]) ex.insert(g);
+        excluded_[e].assign(ex.begin(), ex.end());
+      }
+    }
   }
-  std::string name() const override { return "mortar"; }
+  std::string name() const override { return self_ ? "self_mortar" : "mortar"; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
-    facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
+    if (self_) self_candidates(x, dmax, tracked);
+    else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
   }
 
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
@@ -480,13 +511,13 @@ class Mortar final : public DeformableMaster {
     std::vector<std::vector<MortarFacetResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
 #pragma omp parallel for schedule(dynamic, 8)
-    for (Index e = 0; e < ne; ++e)
-      for (Index m : candidates_[e]) {
-        MortarFacetResult r = mortar_facet_2d(slave_facets_, e, master_, m, x, measure_, true);
-        if (!r.overlap) continue;
-        results[e].push_back(std::move(r));
-        facet[e].push_back(m);
-      }
+    for (Index e = 0; e < ne; ++e) {
+      if (candidates_[e].empty()) continue;
+      MortarFacetResult r = mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_);
+      if (!r.overlap) continue;
+      facet[e].push_back(r.facet);
+      results[e].push_back(std::move(r));
+    }
     gather(slave_facets_, index_, results, facet, out);
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
@@ -507,10 +538,83 @@ class Mortar final : public DeformableMaster {
   }
 
  private:
+  // Self-contact: per slave facet, the facets whose boxes, grown by dmax, meet its box, that face
+  // it and are not in its two-ring; a facet that finds none keeps its list while one of its
+  // nodes is tracked. Search: a uniform grid of the grown boxes.
+  void self_candidates(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) {
+    const MasterSurface& sf = slave_facets_;
+    const Index nf = sf.size();
+    if (nf == 0) return;
+    std::vector<Vec3> lo(nf), hi(nf), normal(nf);
+    Vec3 glo = Vec3::Constant(std::numeric_limits<Real>::infinity()), ghi = -glo;
+    Real extent = 0;
+    std::vector<Vec3> xf;
+    for (Index f = 0; f < nf; ++f) {
+      xf.clear();
+      for (Index n : sf.facets[f]) xf.push_back(x[n]);
+      lo[f] = hi[f] = xf[0];
+      for (const Vec3& p : xf) lo[f] = lo[f].cwiseMin(p), hi[f] = hi[f].cwiseMax(p);
+      if (!lo[f].allFinite() || !hi[f].allFinite())
+        throw SolverError("self-contact: a facet has a non-finite node (a diverging iterate)");
+      normal[f] = facet_normal(sf.type[f], xf, Vec3::Zero(), dim_);
+      glo = glo.cwiseMin(lo[f]);
+      ghi = ghi.cwiseMax(hi[f]);
+      extent += (hi[f] - lo[f]).head(2).maxCoeff() + 2 * dmax;
+    }
+    glo.array() -= dmax;
+    ghi.array() += dmax;
+    // Cells about the size of a grown box, coarsened while there would be more than 8 per facet.
+    Real cell = extent / static_cast<Real>(nf);
+    if (!(cell > 0)) cell = 1;
+    Index count[2] = {1, 1};
+    for (;;) {
+      for (int d = 0; d < 2; ++d) count[d] = static_cast<Index>(std::floor((ghi(d) - glo(d)) / cell)) + 1;
+      if (static_cast<Real>(count[0]) * static_cast<Real>(count[1]) <= 8.0 * static_cast<Real>(nf) + 64) break;
+      cell *= 1.5;
+    }
+    auto cell_of = [&](Real v, int d) {
+      const Real c = std::floor((v - glo(d)) / cell);
+      return static_cast<Index>(std::clamp<Real>(c, 0, static_cast<Real>(count[d] - 1)));
+    };
+    // Facets per cell (compressed rows), each facet in the cells of its grown box.
+    auto visit = [&](const Vec3& a, const Vec3& b, auto&& fn) {
+      for (Index j = cell_of(a(1), 1); j <= cell_of(b(1), 1); ++j)
+        for (Index i = cell_of(a(0), 0); i <= cell_of(b(0), 0); ++i) fn(j * count[0] + i);
+    };
+    std::vector<Index> start(static_cast<size_t>(count[0] * count[1]) + 1, 0), item;
+    const Vec3 grow = Vec3::Constant(dmax);
+    for (Index f = 0; f < nf; ++f) visit(lo[f] - grow, hi[f] + grow, [&](Index c) { ++start[c + 1]; });
+    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    item.resize(start.back());
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (Index f = 0; f < nf; ++f) visit(lo[f] - grow, hi[f] + grow, [&](Index c) { item[fill[c]++] = f; });
+    std::set<Index> found;
+    for (Index e = 0; e < nf; ++e) {
+      found.clear();
+      visit(lo[e], hi[e], [&](Index c) {
+        for (Index k = start[c]; k < start[c + 1]; ++k) {
+          const Index f = item[k];
+          if (normal[f].dot(normal[e]) >= 0 || std::binary_search(excluded_[e].begin(), excluded_[e].end(), f)) continue;
+          if (((lo[f] - grow).head(2).array() > hi[e].head(2).array()).any() ||
+              ((hi[f] + grow).head(2).array() < lo[e].head(2).array()).any())
+            continue;
+          found.insert(f);
+        }
+      });
+      bool was_tracked = false;
+      for (Index n : sf.facets[e])
+        if (index_[n] >= 0 && tracked[index_[n]]) was_tracked = true;
+      if (found.empty() && was_tracked) continue;
+      candidates_[e].assign(found.begin(), found.end());
+    }
+  }
+
+  bool self_;
   MortarMeasure measure_;
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
+  std::vector<std::vector<Index>> excluded_;     // self-contact, per facet: its two-ring (sorted)
 };
 
 // Segment-to-segment by integration points (segment_to_segment.hpp): each slave facet's Gauss
@@ -690,7 +794,7 @@ std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s
   if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
-  if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);
+  if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);  // self-contact too
   if (s.discretization == "segment_to_segment") return std::make_unique<SegmentToSegment>(s, mesh, slave, as);
   throw Error("contact '" + s.name + "': unknown discretization '" + s.discretization + "'");
 }

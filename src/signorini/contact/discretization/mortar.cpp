@@ -146,10 +146,25 @@ bool solve_parameter(Real xi0, const FR& residual_real, const FT& residual, T& x
   return true;
 }
 
-// The weighted gaps of the slave facet's nodes (gap[k] += ...) over its overlap with the master
-// facet; false when they do not overlap (or do not face each other).
+// The integrals of one segment (the slave facet's overlap with one master facet) that the
+// weighted gaps are made of, in the standard basis N_k of the slave facet:
+//   G_k = int_seg N_k g dA,   M_ik = int_seg N_i N_k dA   (u = [G_0.., M_00, M_01, M_11, M_02, M_12, M_22]);
+// `cover`: the segment's share of the slave facet's parameter range. False when the facets do
+// not overlap, do not face each other, or the slave-to-master map folds over (a point of the
+// segment projects off the master facet: beyond the focus of a concave slave wall's normals).
+constexpr int kMaxU = 9;
+// The least share of a slave facet's parameter range that must be covered for its weighted gaps
+// to count (see mortar_element_2d).
+constexpr Real kMinCover = 1e-3;  // G (3) and the upper triangle of M (6) for a line3 slave facet
+int num_u(int ns) { return ns + ns * (ns + 1) / 2; }
+int m_index(int ns, int i, int k) {  // the place of M_ik (i <= k) in u
+  if (i > k) std::swap(i, k);
+  return ns + k * (k + 1) / 2 + i;
+}
+
 template <class T>
-bool evaluate(const Layout& L, const std::vector<P2<T>>& X, const MortarMeasure& ms, T* gap, Real& seglen) {
+bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const MortarMeasure& ms, T* u, Real& seglen,
+                       Real& cover) {
   const int ns = L.ns, nm = L.nm;
   P2<T> xs[3], xm[3], nk[3];
   for (int k = 0; k < ns; ++k) xs[k] = X[L.slave[k]];
@@ -196,49 +211,12 @@ bool evaluate(const Layout& L, const std::vector<P2<T>>& X, const MortarMeasure&
   if (!(value(b) - value(a) > 1e-12)) return false;
 
   auto measure = [&](const P2<T>& x) { return ms.axisymmetric ? T(2 * std::numbers::pi) * x.x : T(ms.thickness); };
+  const int nu = num_u(ns);
+  for (int i = 0; i < nu; ++i) u[i] = T(0);
+  Real length = 0;
 
-  // Dual basis on the whole slave facet: A = D M^-1.
+  // The segment's Gauss points in the slave parameter (exact for M_ik).
   std::vector<Real> gx, gw;
-  gauss_legendre(ns == 2 ? 3 : 6, gx, gw);
-  T M[3][3], D[3];
-  for (int i = 0; i < ns; ++i) {
-    D[i] = T(0);
-    for (int k = 0; k < ns; ++k) M[i][k] = T(0);
-  }
-  for (size_t q = 0; q < gx.size(); ++q) {
-    T N[3], dN[3];
-    line_shape(ns, T(gx[q]), N, dN);
-    const P2<T> dx = interpolate(ns, dN, xs);
-    const T da = sqrt(dot(dx, dx)) * measure(interpolate(ns, N, xs)) * gw[q];
-    for (int i = 0; i < ns; ++i) {
-      D[i] += N[i] * da;
-      for (int k = 0; k < ns; ++k) M[i][k] += N[i] * N[k] * da;
-    }
-  }
-  // A = D M^-1 by Gauss-Jordan on [M | I] (M is a mass matrix: symmetric positive definite).
-  T inv[3][3];
-  for (int i = 0; i < ns; ++i)
-    for (int k = 0; k < ns; ++k) inv[i][k] = T(i == k ? 1.0 : 0.0);
-  for (int p = 0; p < ns; ++p) {
-    const T piv = 1 / M[p][p];
-    for (int k = 0; k < ns; ++k) {
-      M[p][k] = M[p][k] * piv;
-      inv[p][k] = inv[p][k] * piv;
-    }
-    for (int r = 0; r < ns; ++r) {
-      if (r == p) continue;
-      const T f = M[r][p];
-      for (int k = 0; k < ns; ++k) {
-        M[r][k] -= f * M[p][k];
-        inv[r][k] -= f * inv[p][k];
-      }
-    }
-  }
-  T A[3][3];
-  for (int i = 0; i < ns; ++i)
-    for (int k = 0; k < ns; ++k) A[i][k] = D[i] * inv[i][k];
-
-  // The segment's Gauss points in the slave parameter.
   gauss_legendre(ns == 2 && nm == 2 ? 5 : 8, gx, gw);
   const T mid = 0.5 * (a + b), half = 0.5 * (b - a);
   for (size_t q = 0; q < gx.size(); ++q) {
@@ -265,54 +243,145 @@ bool evaluate(const Layout& L, const std::vector<P2<T>>& X, const MortarMeasure&
     };
     T eta;
     if (!solve_parameter(0.0, fr, ft, eta)) return false;
+    // Inside the segment the map is monotone and eta stays in [-1, 1] (its ends map to the
+    // master's ends); a point beyond means the map folded over.
+    if (std::abs(value(eta)) > 1 + 1e-6) return false;
     T M2[3], dM2[3];
     line_shape(nm, eta, M2, dM2);
     const P2<T> y = interpolate(nm, M2, xm);
     const T g = dot(y - x, n) / sqrt(dot(n, n));
     const T jac = sqrt(dot(dx, dx));
     const T w = half * gw[q] * jac * measure(x);
-    seglen += value(half) * gw[q] * value(jac);
+    length += value(half) * gw[q] * value(jac);
     const T gw_ = g * w;
-    for (int j = 0; j < ns; ++j) {
-      T phi = T(0);
-      for (int k = 0; k < ns; ++k) phi += A[j][k] * N[k];
-      gap[j] += phi * gw_;
+    for (int k = 0; k < ns; ++k) {
+      u[k] += N[k] * gw_;
+      const T nw = N[k] * w;
+      for (int i = 0; i <= k; ++i) u[m_index(ns, i, k)] += N[i] * nw;
     }
   }
+  seglen += length;
+  cover = 0.5 * (value(b) - value(a));
   return true;
 }
 
+// The weighted gaps from the element's summed segment integrals u: the dual basis built on the
+// covered part of the slave facet (Cichosz and Bischoff 2011, "Consistent treatment of
+// boundaries with mortar contact formulations using dual Lagrange multipliers", CMAME 200;
+// Popp, Wohlmuth, Gee, Wall 2012, sec. 3.3),
+//   A = D M^-1,  D_jj = sum_k M_jk,  g~_j = sum_k A_jk G_k,
+// biorthogonal on the covered part, so that a gap field the slave basis interpolates gives
+// g~_j = D_jj g_j with D_jj = int_covered N_j > 0: a node whose support a master covers only in
+// part gets a weighted gap of the sign of its gap (the basis built on the whole facet is negative
+// on part of it, and read two walls 0.8 mm apart as a penetration). On a fully covered facet it
+// is the usual dual basis.
+// With `positive` (self-contact), a line3 facet's basis is first transformed to
+//   N~_corner = N_corner + N_mid / 4,  N~_mid = N_mid / 2
+// (a transformed basis as in Popp, Wohlmuth, Gee and Wall 2012, "Dual quadratic mortar finite
+// element methods for 3D finite deformation contact", SIAM J. Sci. Comput. 34; 1/4 is the
+// value that makes the corner functions (1 + xi)^2 / 4 non-negative): then D_jj = int_c N~_j >= 0
+// on any covered part c (a line3 corner function is negative on half its facet, so D_jj of a
+// partly covered corner may be negative and flip its gap's sign). The gaps are then those of
+// the N~ coefficients, and the node weights int N~_j dA0 (mortar_slave_weights).
+constexpr Real kTransform = 0.25;
+template <class T>
+void dual_weighted_gaps(int ns, const T* u_in, bool positive, T* gap) {
+  T u[kMaxU];
+  for (int i = 0; i < num_u(ns); ++i) u[i] = u_in[i];
+  if (positive && ns == 3) {
+    // G~ = T G, M~ = T M T^T with T = [1 0 a; 0 1 a; 0 0 1-2a].
+    const Real a = kTransform, c = 1 - 2 * a;
+    T G[3], M[3][3];
+    for (int i = 0; i < 3; ++i) {
+      G[i] = u_in[i];
+      for (int k = 0; k < 3; ++k) M[i][k] = u_in[m_index(3, i, k)];
+    }
+    const Real Tm[3][3] = {{1, 0, a}, {0, 1, a}, {0, 0, c}};
+    T TM[3][3];
+    for (int i = 0; i < 3; ++i) {
+      u[i] = T(0);
+      for (int k = 0; k < 3; ++k) {
+        if (Tm[i][k] != 0) u[i] += Tm[i][k] * G[k];
+        TM[i][k] = T(0);
+        for (int l = 0; l < 3; ++l)
+          if (Tm[i][l] != 0) TM[i][k] += Tm[i][l] * M[l][k];
+      }
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int k = i; k < 3; ++k) {
+        T v = T(0);
+        for (int l = 0; l < 3; ++l)
+          if (Tm[k][l] != 0) v += TM[i][l] * Tm[k][l];
+        u[m_index(3, i, k)] = v;
+      }
+  }
+  T M[3][3], D[3], inv[3][3];
+  for (int i = 0; i < ns; ++i)
+    for (int k = 0; k < ns; ++k) M[i][k] = u[m_index(ns, i, k)], inv[i][k] = T(i == k ? 1.0 : 0.0);
+  for (int i = 0; i < ns; ++i) {
+    D[i] = T(0);
+    for (int k = 0; k < ns; ++k) D[i] += M[i][k];
+  }
+  // M^-1 by Gauss-Jordan on [M | I] (M is a mass matrix: symmetric positive definite).
+  for (int p = 0; p < ns; ++p) {
+    const T piv = 1 / M[p][p];
+    for (int k = 0; k < ns; ++k) {
+      M[p][k] = M[p][k] * piv;
+      inv[p][k] = inv[p][k] * piv;
+    }
+    for (int r = 0; r < ns; ++r) {
+      if (r == p) continue;
+      const T f = M[r][p];
+      for (int k = 0; k < ns; ++k) {
+        M[r][k] -= f * M[p][k];
+        inv[r][k] -= f * inv[p][k];
+      }
+    }
+  }
+  for (int j = 0; j < ns; ++j) {
+    gap[j] = T(0);
+    for (int k = 0; k < ns; ++k) gap[j] += D[j] * inv[j][k] * u[k];
+  }
+}
+
+// One segment's integrals u with their gradients and Hessians over the pair's nodes.
+struct SegmentIntegrals {
+  std::vector<Index> nodes;
+  Real u[kMaxU] = {};
+  std::vector<VecX> grad;  // per u, over `nodes` (2 per node)
+  std::vector<MatX> hess;
+};
+
 template <int N>
-void evaluate_derivatives(const Layout& L, const std::vector<Vec3>& xl, const MortarMeasure& ms,
-                          MortarFacetResult& r) {
+bool segment_derivatives(const Layout& L, const std::vector<Vec3>& xl, const MortarMeasure& ms, SegmentIntegrals& r) {
   using HD = HyperDual<N>;
   const int nl = static_cast<int>(xl.size());
   std::vector<P2<HD>> X(nl);
   for (int i = 0; i < nl; ++i) X[i] = {HD::input(xl[i](0), 2 * i), HD::input(xl[i](1), 2 * i + 1)};
-  HD gap[3];
-  Real seglen = 0;
-  if (!evaluate(L, X, ms, gap, seglen)) {
-    r.overlap = false;
-    return;
+  HD u[kMaxU];
+  Real seglen = 0, cover = 0;
+  if (!segment_integrals(L, X, ms, u, seglen, cover)) return false;
+  const int nu = num_u(L.ns);
+  r.grad.resize(nu);
+  r.hess.resize(nu);
+  for (int k = 0; k < nu; ++k) {
+    r.u[k] = u[k].v;
+    r.grad[k] = u[k].g.head(2 * nl);
+    r.hess[k] = u[k].h.topLeftCorner(2 * nl, 2 * nl);
   }
-  for (int k = 0; k < L.ns; ++k) {
-    r.gap[k] = gap[k].v;
-    r.grad[k] = gap[k].g.head(2 * nl);
-    r.hess[k] = gap[k].h.topLeftCorner(2 * nl, 2 * nl);
-  }
+  return true;
 }
 
-}  // namespace
-
-MortarFacetResult mortar_facet_2d(const MasterSurface& slave, Index e, const MasterSurface& master, Index m,
-                                  const std::vector<Vec3>& x, const MortarMeasure& measure, bool derivatives) {
-  MortarFacetResult r;
+// The layout of slave facet e against master facet m; `nodes` (mesh indices) is the local
+// numbering: the slave facet's nodes, the other nodes of its neighbouring facets, the master's.
+Layout make_layout(const MasterSurface& slave, Index e, const MasterSurface& master, Index m, std::vector<Index>& nodes) {
   Layout L;
+  nodes.clear();
   auto local = [&](Index node) {
-    auto it = std::find(r.nodes.begin(), r.nodes.end(), node);
-    if (it != r.nodes.end()) return static_cast<int>(it - r.nodes.begin());
-    r.nodes.push_back(node);
-    return static_cast<int>(r.nodes.size() - 1);
+    auto it = std::find(nodes.begin(), nodes.end(), node);
+    if (it != nodes.end()) return static_cast<int>(it - nodes.begin());
+    nodes.push_back(node);
+    return static_cast<int>(nodes.size() - 1);
   };
   const auto& sf = slave.facets[e];
   L.ns = static_cast<int>(sf.size());
@@ -334,25 +403,130 @@ MortarFacetResult mortar_facet_2d(const MasterSurface& slave, Index e, const Mas
   const auto& mf = master.facets[m];
   L.nm = static_cast<int>(mf.size());
   for (int k = 0; k < L.nm; ++k) L.master[k] = local(mf[k]);
+  return L;
+}
 
-  std::vector<Vec3> xl(r.nodes.size());
-  for (size_t i = 0; i < xl.size(); ++i) xl[i] = x[r.nodes[i]];
-  std::vector<P2<Real>> X(xl.size());
-  for (size_t i = 0; i < xl.size(); ++i) X[i] = {xl[i](0), xl[i](1)};
-  Real gap[3] = {0, 0, 0};
-  r.overlap = evaluate(L, X, measure, gap, r.segment_length);
-  if (!r.overlap) return r;
-  r.gap.assign(gap, gap + L.ns);
+}  // namespace
+
+MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x,
+                                    const MortarMeasure& measure, bool derivatives, bool positive_basis) {
+  MortarFacetResult r;
+  const int ns = static_cast<int>(slave.facets[e].size());
+  const int nu = num_u(ns);
+  Real u[kMaxU] = {};
+  Real cover = 0;
+  std::vector<SegmentIntegrals> segments;
+  std::vector<Index> nodes;
+  for (Index m : masters) {
+    const Layout L = make_layout(slave, e, master, m, nodes);
+    std::vector<Vec3> xl(nodes.size());
+    for (size_t i = 0; i < xl.size(); ++i) xl[i] = x[nodes[i]];
+    std::vector<P2<Real>> X(xl.size());
+    for (size_t i = 0; i < xl.size(); ++i) X[i] = {xl[i](0), xl[i](1)};
+    Real us[kMaxU], c = 0;
+    if (!segment_integrals(L, X, measure, us, r.segment_length, c)) continue;
+    if (r.masters.empty() || c > cover) r.facet = m;  // the master of the longest segment
+    r.masters.push_back(m);
+    cover += c;
+    for (int i = 0; i < nu; ++i) u[i] += us[i];
+    if (!derivatives) continue;
+    SegmentIntegrals s;
+    s.nodes = nodes;
+    const size_t n2 = 2 * nodes.size();
+    bool ok = false;
+    if (n2 <= 12) ok = segment_derivatives<12>(L, xl, measure, s);
+    else if (n2 <= 16) ok = segment_derivatives<16>(L, xl, measure, s);
+    else if (n2 <= 20) ok = segment_derivatives<20>(L, xl, measure, s);
+    else if (n2 <= 24) ok = segment_derivatives<24>(L, xl, measure, s);
+    else throw Error("mortar: a slave facet depends on more nodes than expected (" + std::to_string(nodes.size()) + ")");
+    if (!ok) throw Error("mortar: a segment found in plain numbers was not found again with derivatives");
+    segments.push_back(std::move(s));
+  }
+  // A sliver of cover: the dual basis on it is ill-conditioned (M nearly singular) while its
+  // weighted gaps are of the order of the cover times the gap; it is left out.
+  if (!(cover >= kMinCover)) {
+    r.masters.clear();
+    r.segment_length = 0;
+    return r;
+  }
+  r.overlap = true;
+  Real gap[3];
+  dual_weighted_gaps(ns, u, positive_basis, gap);
+  r.gap.assign(gap, gap + ns);
   if (!derivatives) return r;
-  r.grad.resize(L.ns);
-  r.hess.resize(L.ns);
-  const size_t n2 = 2 * r.nodes.size();
-  if (n2 <= 12) evaluate_derivatives<12>(L, xl, measure, r);
-  else if (n2 <= 16) evaluate_derivatives<16>(L, xl, measure, r);
-  else if (n2 <= 20) evaluate_derivatives<20>(L, xl, measure, r);
-  else if (n2 <= 24) evaluate_derivatives<24>(L, xl, measure, r);
-  else throw Error("mortar: a slave facet depends on more nodes than expected (" + std::to_string(r.nodes.size()) + ")");
+
+  // The chain rule through g~(u): grad = sum_a f_a grad u_a, hess = sum_a f_a hess u_a +
+  // sum_ab f_ab grad u_a grad u_b^T, with f's derivatives by hyper-dual numbers over u.
+  using HU = HyperDual<kMaxU>;
+  HU uh[kMaxU], gh[3];
+  for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
+  dual_weighted_gaps(ns, uh, positive_basis, gh);
+  std::vector<int> at;
+  for (const SegmentIntegrals& s : segments)
+    for (Index n : s.nodes)
+      if (std::find(r.nodes.begin(), r.nodes.end(), n) == r.nodes.end()) r.nodes.push_back(n);
+  const Index n2 = 2 * static_cast<Index>(r.nodes.size());
+  r.grad.assign(ns, VecX::Zero(n2));
+  r.hess.assign(ns, MatX::Zero(n2, n2));
+  // Each segment's gradients in the element's numbering.
+  std::vector<MatX> G(segments.size());  // per segment: n2 x nu
+  for (size_t p = 0; p < segments.size(); ++p) {
+    const SegmentIntegrals& s = segments[p];
+    G[p].setZero(n2, nu);
+    for (size_t a = 0; a < s.nodes.size(); ++a) {
+      const Index A = std::find(r.nodes.begin(), r.nodes.end(), s.nodes[a]) - r.nodes.begin();
+      for (int i = 0; i < nu; ++i) G[p].block(2 * A, i, 2, 1) = s.grad[i].segment(2 * static_cast<Index>(a), 2);
+    }
+  }
+  MatX Gsum = MatX::Zero(n2, nu);
+  for (const MatX& g : G) Gsum += g;
+  for (int j = 0; j < ns; ++j) {
+    const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
+    const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
+    r.grad[j] = Gsum * fa.head(nu);
+    r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
+    for (size_t p = 0; p < segments.size(); ++p) {
+      const SegmentIntegrals& s = segments[p];
+      at.clear();
+      for (Index n : s.nodes) at.push_back(static_cast<int>(std::find(r.nodes.begin(), r.nodes.end(), n) - r.nodes.begin()));
+      for (int i = 0; i < nu; ++i) {
+        if (fa(i) == 0) continue;
+        for (size_t a = 0; a < at.size(); ++a)
+          for (size_t b = 0; b < at.size(); ++b)
+            r.hess[j].block(2 * at[a], 2 * at[b], 2, 2) +=
+                fa(i) * s.hess[i].block(2 * static_cast<Index>(a), 2 * static_cast<Index>(b), 2, 2);
+      }
+    }
+  }
   return r;
+}
+
+void mortar_slave_weights(const MasterSurface& slave, const std::vector<Vec3>& X, const MortarMeasure& measure,
+                          bool positive_basis, std::vector<Real>& weight) {
+  weight.assign(X.size(), 0);
+  std::vector<Real> gx, gw;
+  gauss_legendre(4, gx, gw);
+  for (Index e = 0; e < slave.size(); ++e) {
+    const auto& f = slave.facets[e];
+    const int nn = static_cast<int>(f.size());
+    P2<Real> xf[3];
+    for (int k = 0; k < nn; ++k) xf[k] = {X[f[k]](0), X[f[k]](1)};
+    Real w[3] = {0, 0, 0};
+    for (size_t q = 0; q < gx.size(); ++q) {
+      Real N[3], dN[3];
+      line_shape(nn, gx[q], N, dN);
+      const P2<Real> x = interpolate(nn, N, xf), dx = interpolate(nn, dN, xf);
+      const Real da = std::sqrt(dot(dx, dx)) * gw[q] * (measure.axisymmetric ? 2 * std::numbers::pi * x.x : measure.thickness);
+      for (int k = 0; k < nn; ++k) w[k] += N[k] * da;
+    }
+    if (positive_basis && nn == 3) {
+      w[0] += kTransform * w[2];
+      w[1] += kTransform * w[2];
+      w[2] *= 1 - 2 * kTransform;
+    }
+    for (int k = 0; k < nn; ++k) weight[f[k]] += w[k];
+  }
 }
 
 void mortar_nodal_normal_2d(const MasterSurface& slave, Index node, const std::vector<Vec3>& x, Vec3& normal,

@@ -4,15 +4,19 @@
 //   g~_j = int_{Gamma_s} Phi_j g dA,   g = (x_m(chi(xi)) - x_s(xi)) . n(xi) / |n(xi)|,
 // with n(xi) = sum_k N_k(xi) n_k the interpolation of the slave's averaged nodal normals, chi
 // the projection of the slave point along n onto the master, and Phi_j the dual basis
-//   Phi_j = sum_k A_jk N_k,  A = D M^-1,  M_jk = int_e N_j N_k dA,  D_jj = int_e N_j dA
-// (biorthogonal: int_e Phi_j N_k dA = delta_jk D_jj), so that the multipliers are nodal
-// pressures and a uniform pressure is represented exactly (sum_j Phi_j = 1).
+//   Phi_j = sum_k A_jk N_k,  A = D M^-1,  M_jk = int_c N_j N_k dA,  D_jj = int_c N_j dA
+// over c, the part of the slave facet e the master covers (all of e inside a contact zone;
+// Cichosz and Bischoff 2011 for partly covered facets); biorthogonal: int_c Phi_j N_k dA =
+// delta_jk D_jj, so that the multipliers are nodal pressures and a uniform pressure is
+// represented exactly (sum_j Phi_j = 1), and a partly covered node's weighted gap has the sign
+// of its gap.
 // Segmentation: the master facet's end nodes are projected onto the slave facet along the
 // interpolated slave normal; the segment is the overlap of that interval with the slave facet,
-// integrated with Gauss points in the slave parameter. Everything (normals, projections,
-// segment ends, dual basis, Jacobians) is computed on hyper-dual numbers
-// (geometry/hyper_dual.hpp), so the gradient and Hessian of g~_j are exact, including the
-// variation of the segmentation and of the normals (Popp et al. 2010, sec. 4, derive them by
+// integrated with Gauss points in the slave parameter. Per segment, its integrals G_k =
+// int N_k g dA and M_jk (normals, projections, segment ends, Jacobians) are computed on
+// hyper-dual numbers (geometry/hyper_dual.hpp), and g~_j = sum_k A_jk(M) G_k through the chain
+// rule, so the gradient and Hessian of g~_j are exact, including the variation of the
+// segmentation, of the normals and of the covered part (Popp et al. 2010, sec. 4, derive them by
 // hand). dA carries the thickness, or 2 pi r in an axisymmetric analysis.
 #pragma once
 #include <vector>
@@ -28,23 +32,34 @@ struct MortarMeasure {
   bool axisymmetric = false;
 };
 
-// One slave facet against one master facet.
+// One slave facet against the master facets it overlaps.
 struct MortarFacetResult {
   bool overlap = false;
+  std::vector<Index> masters;  // the master facets whose segments were integrated
+  Index facet = -1;            // the one of the longest segment
   Real segment_length = 0;    // length of the segment on the slave facet (current configuration)
   std::vector<Index> nodes;   // the nodes the weighted gaps depend on (mesh indices): the slave
                               // facet's, the other nodes of its neighbouring slave facets (normals), the master's
   std::vector<Real> gap;      // per node of the slave facet: its share of g~_j
+                              // (the master nodes: of all the facets in `masters`)
   std::vector<VecX> grad;     // d/dx over `nodes` (2 per node)
   std::vector<MatX> hess;
 };
 
 // `slave`: the slave surface's facets (with node_facets, for the averaged normals); facet e of
-// it against facet m of `master`, at positions x. Without `derivatives` only the overlap, the
-// segment length and the gaps are computed.
-MortarFacetResult mortar_facet_2d(const MasterSurface& slave, Index e, const MasterSurface& master, Index m,
-                                  const std::vector<Vec3>& x, const MortarMeasure& measure, bool derivatives);
+// it against the facets `masters` of `master`, at positions x. The dual basis is built on the
+// part of the facet the masters cover (mortar.cpp, dual_weighted_gaps); a facet covered on less
+// than 1e-3 of its length has no overlap. Without `derivatives` only the overlap, the segment
+// length and the gaps are computed. `positive_basis` (self-contact): on line3 facets the dual
+// basis of a transformed basis whose functions are non-negative (mortar.cpp).
+MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x,
+                                    const MortarMeasure& measure, bool derivatives, bool positive_basis = false);
 
+// The reference weight int N_j dA0 of each slave node (indexed by mesh node, 0 elsewhere; X the
+// reference positions); with `positive_basis`, of the transformed line3 basis (mortar.cpp).
+void mortar_slave_weights(const MasterSurface& slave, const std::vector<Vec3>& X, const MortarMeasure& measure,
+                          bool positive_basis, std::vector<Real>& weight);
 // The averaged outward normal of the slave surface at mesh node `node` and its derivative with
 // respect to the nodes of the facets around it (`nodes`, 2 columns per node).
 void mortar_nodal_normal_2d(const MasterSurface& slave, Index node, const std::vector<Vec3>& x, Vec3& normal,
