@@ -1,7 +1,9 @@
 // The 2D dual mortar kinematics (contact/discretization/mortar.hpp): the segments tile the
 // slave surface, the weighted gaps integrate the gap exactly, and the weighted gap with its
 // gradient is continuous and matches central differences when master nodes cross slave nodes
-// (the segmentation changes there).
+// (the segmentation changes there); on a slave facet a master covers in part, the dual basis of
+// the covered part gives each node its gap times its covered area (line2, and line3 on the
+// transformed basis of self-contact), with derivatives that match central differences.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,35 +14,40 @@ using namespace signorini;
 
 namespace {
 
-// A slave curve of `ns` line2 facets over [-1, 1] at height y_s(x) (its outward normal points
-// down), over a master curve of `nm` facets over [-1.6, 1.5] at height y_m(x) shifted by
-// `shift` in x (outward normal up). Nodes: slave first, then master.
+// A slave curve of `ns` facets over [-1, 1] at height y_s(x) (its outward normal points
+// down), over a master curve of `nm` facets over [mlo, mhi] at height y_m(x) shifted by `shift`
+// in x (outward normal up); line2 facets (order 1) or line3 (order 2: corner, corner, mid-side).
+// Nodes: slave first, then master. `positive`: the transformed line3 basis (self-contact's).
 struct TwoCurves {
   MasterSurface slave, master;
   std::vector<Vec3> x;
   int ns, nm;
-  TwoCurves(int ns_, int nm_, Real shift, Real (*ys)(Real), Real (*ym)(Real)) : ns(ns_), nm(nm_) {
-    for (int i = 0; i <= ns; ++i) {
-      const Real X = -1 + 2.0 * i / ns;
+  bool positive = false;
+  TwoCurves(int ns_, int nm_, Real shift, Real (*ys)(Real), Real (*ym)(Real), int order = 1, Real mlo = -1.6,
+            Real mhi = 1.5, bool positive_ = false)
+      : ns(ns_), nm(nm_), positive(positive_) {
+    for (int i = 0; i <= order * ns; ++i) {
+      const Real X = -1 + 2.0 * i / (order * ns);
       x.emplace_back(X, ys(X), 0);
     }
-    for (int i = 0; i <= nm; ++i) {
-      const Real X = -1.6 + 3.1 * i / nm + shift;
+    for (int i = 0; i <= order * nm; ++i) {
+      const Real X = mlo + (mhi - mlo) * i / (order * nm) + shift;
       x.emplace_back(X, ym(X), 0);
     }
     auto make = [&](MasterSurface& s, int first, int n, bool reverse) {
       s.node_facets.assign(x.size(), {});
       for (int i = 0; i < n; ++i) {
-        std::vector<Index> f = {first + i, first + i + 1};
+        std::vector<Index> f = {first + order * i, first + order * (i + 1)};
         if (reverse) std::swap(f[0], f[1]);
-        s.type.push_back(ElementType::line2);
+        if (order == 2) f.push_back(first + 2 * i + 1);
+        s.type.push_back(order == 2 ? ElementType::line3 : ElementType::line2);
         s.facets.push_back(f);
         for (Index k : f) s.node_facets[k].push_back(i);
       }
-      for (int i = 0; i <= n; ++i) s.nodes.push_back(first + i);
+      for (int i = 0; i <= order * n; ++i) s.nodes.push_back(first + i);
     };
-    make(slave, 0, ns, false);       // left to right: normal (t_y, -t_x) points down
-    make(master, ns + 1, nm, true);  // right to left: normal up
+    make(slave, 0, ns, false);                    // left to right: normal (t_y, -t_x) points down
+    make(master, order * ns + 1, nm, true);       // right to left: normal up
   }
   // Weighted gap of slave node j (mesh index) with its gradient and Hessian over all nodes.
   Real weighted_gap(Index j, VecX* grad = nullptr, MatX* hess = nullptr, Real* length = nullptr) const {
@@ -52,23 +59,44 @@ struct TwoCurves {
     std::vector<Index> all(static_cast<size_t>(master.size()));
     for (Index m = 0; m < master.size(); ++m) all[m] = m;
     for (Index e = 0; e < slave.size(); ++e) {
-        MortarFacetResult r = mortar_element_2d(slave, e, master, all, x, ms, grad != nullptr);
-        if (!r.overlap) continue;
-        if (length && j == 0) *length += r.segment_length;
-        for (size_t k = 0; k < slave.facets[e].size(); ++k) {
-          if (slave.facets[e][k] != j) continue;
-          g += r.gap[k];
-          if (!grad) continue;
-          for (size_t a = 0; a < r.nodes.size(); ++a) {
-            grad->segment(2 * r.nodes[a], 2) += r.grad[k].segment(2 * a, 2);
-            for (size_t b = 0; b < r.nodes.size(); ++b)
-              hess->block(2 * r.nodes[a], 2 * r.nodes[b], 2, 2) += r.hess[k].block(2 * a, 2 * b, 2, 2);
-          }
+      MortarFacetResult r = mortar_element_2d(slave, e, master, all, x, ms, grad != nullptr, positive);
+      if (!r.overlap) continue;
+      if (length && j == 0) *length += r.segment_length;
+      for (size_t k = 0; k < slave.facets[e].size(); ++k) {
+        if (slave.facets[e][k] != j) continue;
+        g += r.gap[k];
+        if (!grad) continue;
+        for (size_t a = 0; a < r.nodes.size(); ++a) {
+          grad->segment(2 * r.nodes[a], 2) += r.grad[k].segment(2 * a, 2);
+          for (size_t b = 0; b < r.nodes.size(); ++b)
+            hess->block(2 * r.nodes[a], 2 * r.nodes[b], 2, 2) += r.hess[k].block(2 * a, 2 * b, 2, 2);
         }
       }
+    }
     return g;
   }
 };
+
+// The largest differences between the weighted gap's gradient and Hessian at node j and central
+// differences of its value and gradient (step 1e-6), relative to their largest entries.
+void central_difference_errors(const TwoCurves& c, Index j, Real& err_g, Real& err_h, Real step = 1e-6) {
+  VecX g;
+  MatX H;
+  c.weighted_gap(j, &g, &H);
+  err_g = err_h = 0;
+  for (Index i = 0; i < g.size(); ++i) {
+    TwoCurves p = c, m = c;
+    p.x[i / 2](i % 2) += step;
+    m.x[i / 2](i % 2) -= step;
+    VecX gp, gm;
+    MatX hp, hm;
+    const Real fd = (p.weighted_gap(j, &gp, &hp) - m.weighted_gap(j, &gm, &hm)) / (2 * step);
+    err_g = std::max(err_g, std::abs(fd - g(i)));
+    err_h = std::max(err_h, ((gp - gm) / (2 * step) - H.col(i)).cwiseAbs().maxCoeff());
+  }
+  err_g /= g.cwiseAbs().maxCoeff();
+  err_h /= H.cwiseAbs().maxCoeff();
+}
 
 Real flat(Real) { return 0; }
 Real below(Real) { return -0.01; }
@@ -109,24 +137,10 @@ TEST(Mortar, WeightedGapIsSmoothWhereMasterNodesCrossSlaveNodes) {
   const Real s0 = -(-1.6 + 3.1 * 3 / nm);  // master node 3 at x = 0
   for (Real side : {-1.0, 1.0}) {
     TwoCurves c(4, nm, s0 + side * 1e-4, wavy_slave, wavy_master);
-    VecX g;
-    MatX H;
-    const Index j = 2;  // the slave node at x = 0
-    c.weighted_gap(j, &g, &H);
-    const Real step = 1e-6;
-    Real err_g = 0, err_h = 0;
-    for (Index i = 0; i < g.size(); ++i) {
-      TwoCurves p = c, m = c;
-      p.x[i / 2](i % 2) += step;
-      m.x[i / 2](i % 2) -= step;
-      VecX gp, gm;
-      MatX hp, hm;
-      const Real fd = (p.weighted_gap(j, &gp, &hp) - m.weighted_gap(j, &gm, &hm)) / (2 * step);
-      err_g = std::max(err_g, std::abs(fd - g(i)));
-      err_h = std::max(err_h, ((gp - gm) / (2 * step) - H.col(i)).cwiseAbs().maxCoeff());
-    }
-    EXPECT_LT(err_g, 1e-8 * g.cwiseAbs().maxCoeff()) << side;
-    EXPECT_LT(err_h, 1e-6 * H.cwiseAbs().maxCoeff()) << side;
+    Real err_g, err_h;
+    central_difference_errors(c, 2, err_g, err_h);  // the slave node at x = 0
+    EXPECT_LT(err_g, 1e-8) << side;
+    EXPECT_LT(err_h, 1e-6) << side;
   }
   // Continuity of the value and gradient across the crossing.
   VecX ga, gb;
@@ -137,3 +151,66 @@ TEST(Mortar, WeightedGapIsSmoothWhereMasterNodesCrossSlaveNodes) {
   EXPECT_LT((ga - gb).cwiseAbs().maxCoeff(), 1e-5 * ga.cwiseAbs().maxCoeff());
 }
 
+
+TEST(Mortar, PartlyCoveredNodeGetsItsGapTimesItsCoveredArea) {
+  // A master that ends inside the last slave facet [0.5, 1] (at x = mhi), flat surfaces 0.01
+  // apart. The dual basis is built on the covered part (mortar.hpp), so the weighted gap of the
+  // partly covered node at x = 1 is 0.01 int_{0.5}^{mhi} N dx = 0.01 (mhi - 0.5)^2 > 0, and its
+  // neighbour's 0.01 (0.25 + 0.25 - (1 - mhi)^2). (The dual basis of the whole facet,
+  // 2 N_4 - N_3, integrates to 3 (mhi - 0.5)^2 - (mhi - 0.5) over the covered part: -0.0007 at
+  // mhi = 0.6, a penetration read across a gap of 0.01.)
+  for (Real mhi : {0.6, 0.75, 0.95}) {
+    TwoCurves c(4, 7, 0.0, flat, below, 1, -1.6, mhi);
+    const Real c4 = mhi - 0.5;
+    EXPECT_NEAR(c.weighted_gap(4), 0.01 * c4 * c4, 1e-15) << mhi;
+    EXPECT_NEAR(c.weighted_gap(3), 0.01 * (0.5 - (1 - mhi) * (1 - mhi)), 1e-15) << mhi;
+    Real sum = 0;
+    for (Index j = 0; j <= 4; ++j) sum += c.weighted_gap(j);
+    EXPECT_NEAR(sum, 0.01 * (mhi + 1), 1e-15) << "the gap times the covered length";
+  }
+  // Line3 facets [-1, 0] and [0, 1], the master ending at x = mhi in the second. On its
+  // transformed basis (self-contact's: N~_corner = (1 + xi)^2 / 4 >= 0) the corner at x = 1
+  // gets 0.01 int_0^mhi N~ dx = 0.01 mhi^3 / 3. On the quadratic basis itself its covered area
+  // int_0^mhi N dx is negative for mhi < 1/2 (N = xi (1 + xi) / 2 < 0 for xi < 0), and so is
+  // its weighted gap: what the transformed basis is for.
+  for (Real mhi : {0.2, 0.5, 0.9}) {
+    TwoCurves t(2, 3, 0.0, flat, below, 2, -1.6, mhi, true);
+    EXPECT_NEAR(t.weighted_gap(4), 0.01 * mhi * mhi * mhi / 3, 1e-15) << mhi;
+    Real sum = 0;
+    for (Index j = 0; j <= 4; ++j) {
+      const Real g = t.weighted_gap(j);
+      EXPECT_GE(g, 0) << mhi << " node " << j;
+      sum += g;
+    }
+    EXPECT_NEAR(sum, 0.01 * (mhi + 1), 1e-15) << "the gap times the covered length";
+  }
+  TwoCurves q(2, 3, 0.0, flat, below, 2, -1.6, 0.2, false);
+  EXPECT_LT(q.weighted_gap(4), 0) << "line3 without the transformation, covered to x = 0.2";
+}
+
+TEST(Mortar, PartlyCoveredFacetsMatchCentralDifferences) {
+  // Curved, the master ending inside a slave facet: the covered part, and with it the dual
+  // basis, moves with the nodes. Line2, and line3 on the transformed basis.
+  for (int order : {1, 2}) {
+    TwoCurves c(4, 5, 0.013, wavy_slave, wavy_master, order, -1.6, 0.62, order == 2);
+    for (Index j : {Index(4 * order), Index(4 * order - 1), Index(4 * order - 2)}) {
+      // Step 1e-5: the line3 dual basis of a partly covered facet amplifies round-off (at 1e-6
+      // the differences' round-off reaches 2e-6 of the Hessian; at 1e-4 their truncation 4e-7).
+      Real err_g, err_h;
+      central_difference_errors(c, j, err_g, err_h, 1e-5);
+      EXPECT_LT(err_g, 1e-8) << "order " << order << " node " << j;
+      EXPECT_LT(err_h, 1e-6) << "order " << order << " node " << j;
+    }
+  }
+}
+
+TEST(Mortar, SliverOfCoverIsLeftOut) {
+  // A facet covered on less than 1e-3 of its parameter range has no overlap (its dual basis
+  // would be ill-conditioned; its weighted gaps are of the order of the cover).
+  MortarMeasure ms;
+  for (auto [share, overlap] : {std::pair{5e-4, false}, std::pair{2e-3, true}}) {
+    TwoCurves c(4, 7, 0.0, flat, below, 1, -1.6, 0.5 + 0.5 * share);
+    const MortarFacetResult r = mortar_element_2d(c.slave, 3, c.master, {0, 1, 2, 3, 4, 5, 6}, c.x, ms, false);
+    EXPECT_EQ(r.overlap, overlap) << share;
+  }
+}
