@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,11 +40,25 @@ inline const ContactInterface& tube_pair(const Analysis& a, const std::string& n
 struct TubeSample {
   Real closure = 0, force = 0, worst_gap = 0, balance = 0, internal = 0;
   Index fold_closed = 0;
+  Real peak_pressure = 0;  // the fold's largest reported pressure
 };
 
-inline std::vector<TubeSample> crush_tube(const std::string& example, const std::string& parameters) {
+// The example run (`fold`: another entry for the fold pair, e.g. with mortar), one sample per
+// increment.
+inline std::vector<TubeSample> crush_tube(const std::string& example, const std::string& parameters,
+                                          const std::string& fold_entry = "") {
   log::set_level(log::Level::warning);
   const ExampleDeck ex = example_deck_with(example, parameters);
+  if (!fold_entry.empty()) {
+    std::ifstream in(ex.deck);
+    std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::string entry = "{name: fold, surface: Inner, self: true}";
+    const size_t at = deck.find(entry);
+    EXPECT_NE(at, std::string::npos) << "no fold entry " << entry << " in the example";
+    if (at != std::string::npos) deck.replace(at, entry.size(), fold_entry);
+    std::ofstream(ex.deck) << deck;
+  }
   Registry r = default_registry();
   Model m = read_deck(ex.deck.string(), r);
   m.output.vtu = "none";
@@ -62,6 +78,7 @@ inline std::vector<TubeSample> crush_tube(const std::string& example, const std:
       s.worst_gap = std::min(s.worst_gap, fold.constraints()[j].gap);
       s.fold_closed += fold.state().active[j] ? 1 : 0;
     }
+    for (const ContactInterface::SlaveState& st : fold.slave_states()) s.peak_pressure = std::max(s.peak_pressure, st.pressure);
     out.push_back(s);
   });
   const AnalysisSummary sum = a.run();
@@ -101,6 +118,54 @@ inline void compare_tube_slice_with_plane_strain(const std::string& parameters, 
   EXPECT_GT(fold_closed, 0) << "the inner wall never touched itself";
   EXPECT_LT(worst_force, 1e-8);
   EXPECT_GT(worst_gap, -1e-9 * 10);
+  EXPECT_LT(worst_balance, 1e-8);
+  EXPECT_LT(worst_internal, 1e-8);
+}
+
+// Self-contact with mortar: the tube with its fold as dual mortar (`method`: penalty or
+// augmented_lagrangian), against the same tube with node-to-segment and Lagrange multipliers
+// (the example's fold), on the same mesh. Checks: the same end; the final bar force within
+// `force_tolerance` of node-to-segment's (the augmented Lagrangian: the discretizations differ,
+// both exact in the gap; penalty: its penetration softens the fold); the fold closes and takes
+// a good part of the bars' load; in every increment equilibrium to 1e-8 (the bars and the
+// symmetry plane) and the fold's net force zero to 1e-8 (each weighted gap's gradient sums to
+// zero over its nodes); its deepest weighted gap above -max_penetration; the final peak
+// reported pressure (a nodal force over its weight) within `pressure_tolerance` of
+// node-to-segment's (a peak on a few closed nodes: a looser check than the force).
+inline void compare_mortar_fold(const std::string& parameters, const std::string& method, Real force_tolerance,
+                                Real max_penetration, Real pressure_tolerance) {
+  const std::vector<TubeSample> nts = crush_tube("tube_crush", parameters),
+                                mortar = crush_tube("tube_crush", parameters,
+                                                    "{name: fold, surface: Inner, self: true, discretization: mortar, "
+                                                    "enforcement: {method: " + method + "}}");
+  ASSERT_FALSE(nts.empty());
+  ASSERT_FALSE(mortar.empty());
+  EXPECT_NEAR(mortar.back().closure, nts.back().closure, 1e-12) << "both reach the end";
+  auto touch = [](const std::vector<TubeSample>& run) {
+    for (const TubeSample& t : run)
+      if (t.fold_closed > 0) return t.closure;
+    return -1.0;
+  };
+  Real worst_gap = 0, worst_balance = 0, worst_internal = 0;
+  Index fold_closed = 0;
+  for (const TubeSample& t : mortar) {
+    worst_gap = std::min(worst_gap, t.worst_gap);
+    worst_balance = std::max(worst_balance, t.balance);
+    worst_internal = std::max(worst_internal, t.internal);
+    fold_closed = std::max(fold_closed, t.fold_closed);
+  }
+  const Real force = std::abs(mortar.back().force), reference = std::abs(nts.back().force);
+  std::printf("fold as mortar (%s, %s) against node_to_segment: %zu and %zu increments; final bar force %.6g against "
+              "%.6g N/mm (%+.3f %%); fold closed at a closure of %.4g against %.4g mm, up to %lld closed nodes; final "
+              "peak pressure %.4g against %.4g MPa; deepest weighted gap %.2e mm; balance %.1e, fold's net force %.1e\n",
+              parameters.empty() ? "the example's mesh" : parameters.c_str(), method.c_str(), mortar.size(), nts.size(),
+              force, reference, 100 * (force / reference - 1), touch(mortar), touch(nts), (long long)fold_closed,
+              mortar.back().peak_pressure, nts.back().peak_pressure, worst_gap, worst_balance, worst_internal);
+  EXPECT_NEAR(force, reference, force_tolerance * reference);
+  EXPECT_NEAR(mortar.back().peak_pressure, nts.back().peak_pressure, pressure_tolerance * nts.back().peak_pressure);
+  EXPECT_GT(fold_closed, 0) << "the inner wall never touched itself";
+  EXPECT_GT(touch(mortar), 0);
+  EXPECT_GT(worst_gap, -max_penetration);
   EXPECT_LT(worst_balance, 1e-8);
   EXPECT_LT(worst_internal, 1e-8);
 }

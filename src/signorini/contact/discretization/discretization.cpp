@@ -467,7 +467,8 @@ class NodeToNode final : public DeformableMaster {
 // whose Uzawa updates converge to the total pressure. Where a master covers a slave facet only
 // in part (the fold's ends, the facets beyond d_max) the dual basis is built on the covered
 // part (mortar.hpp); line3 facets use the transformed basis whose functions are non-negative,
-// with the node weights of that basis.
+// and a node's weighted gap is scaled by that basis' weight (the constraint's gap is then the
+// coefficient of the gap in that basis).
 class Mortar final : public DeformableMaster {
  public:
   Mortar(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, const AnalysisSettings& as)
@@ -482,7 +483,8 @@ class Mortar final : public DeformableMaster {
     if (self_) {
       std::vector<Real> w;
       mortar_slave_weights(slave_facets_, mesh.nodes, measure_, true, w);
-      for (size_t j = 0; j < slave_.nodes.size(); ++j) slave_.weights[j] = w[slave_.nodes[j]];
+      gap_scale_.resize(slave_.nodes.size());
+      for (size_t j = 0; j < slave_.nodes.size(); ++j) gap_scale_[j] = w[slave_.nodes[j]];
       excluded_.resize(slave_facets_.size());
       for (Index e = 0; e < slave_facets_.size(); ++e) {
         std::set<Index> ex;
@@ -521,18 +523,23 @@ class Mortar final : public DeformableMaster {
     gather(slave_facets_, index_, results, facet, out);
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
-    for (Constraint& c : out) {
+    // Self-contact: by the weight of the transformed basis (the gap is then its coefficient), the
+    // constraint keeping the node's weight int N_j dA0, which its nodal force is divided by for the
+    // reported pressure.
+    for (size_t j = 0; j < out.size(); ++j) {
+      Constraint& c = out[j];
       if (c.kind == ConstraintKind::none) continue;
-      if (!(c.weight > 0)) {
+      const Real scale = self_ ? gap_scale_[j] : c.weight;
+      if (!(c.weight > 0) || !(scale > 0)) {
         Constraint open;
         open.slave = c.slave;
         open.weight = c.weight;
         c = std::move(open);
         continue;
       }
-      c.gap /= c.weight;
-      c.grad /= c.weight;
-      c.hess /= c.weight;
+      c.gap /= scale;
+      c.grad /= scale;
+      c.hess /= scale;
       set_slave_normal_2d(slave_facets_, x, c);
     }
   }
@@ -615,6 +622,7 @@ class Mortar final : public DeformableMaster {
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
   std::vector<std::vector<Index>> excluded_;     // self-contact, per facet: its two-ring (sorted)
+  std::vector<Real> gap_scale_;                  // self-contact, per slave node: int N~_j dA0
 };
 
 // Segment-to-segment by integration points (segment_to_segment.hpp): each slave facet's Gauss
