@@ -132,8 +132,10 @@ inline void compare_tube_slice_with_plane_strain(const std::string& parameters, 
 // zero over its nodes); its deepest weighted gap above -max_penetration; the final peak
 // reported pressure (a nodal force over its weight) within `pressure_tolerance` of
 // node-to-segment's (a peak on a few closed nodes: a looser check than the force).
+// `csv`: a file name in build/curves/ for both runs' bar force against closure
+// (examples/tube_crush/plot.py).
 inline void compare_mortar_fold(const std::string& parameters, const std::string& method, Real force_tolerance,
-                                Real max_penetration, Real pressure_tolerance) {
+                                Real max_penetration, Real pressure_tolerance, const std::string& csv = "") {
   const std::vector<TubeSample> nts = crush_tube("tube_crush", parameters),
                                 mortar = crush_tube("tube_crush", parameters,
                                                     "{name: fold, surface: Inner, self: true, discretization: mortar, "
@@ -161,6 +163,14 @@ inline void compare_mortar_fold(const std::string& parameters, const std::string
               parameters.empty() ? "the example's mesh" : parameters.c_str(), method.c_str(), mortar.size(), nts.size(),
               force, reference, 100 * (force / reference - 1), touch(mortar), touch(nts), (long long)fold_closed,
               mortar.back().peak_pressure, nts.back().peak_pressure, worst_gap, worst_balance, worst_internal);
+  if (!csv.empty()) {
+    const std::filesystem::path dir = std::filesystem::path(SIGNORINI_BINARY_DIR) / "curves";
+    std::filesystem::create_directories(dir);
+    std::ofstream out(dir / csv);
+    out << "discretization,closure,force\n";
+    for (const TubeSample& t : nts) out << "node_to_segment," << t.closure << "," << 2 * std::abs(t.force) << "\n";
+    for (const TubeSample& t : mortar) out << "mortar," << t.closure << "," << 2 * std::abs(t.force) << "\n";
+  }
   EXPECT_NEAR(force, reference, force_tolerance * reference);
   EXPECT_NEAR(mortar.back().peak_pressure, nts.back().peak_pressure, pressure_tolerance * nts.back().peak_pressure);
   EXPECT_GT(fold_closed, 0) << "the inner wall never touched itself";

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """The crushed tube (examples/tube_crush, test SelfContact.TubeCrushedUntilItsInnerWallTouchesItself):
 bar force against closure with the thin-ring closed form of its start, and the deformed
-walls at the end (the half model mirrored), with the closed nodes of the self-contact marked.
-Reads the CSV files the test writes in build/curves/.
+walls at the end (the half model mirrored), with the closed nodes of the self-contact marked;
+with the file of SelfContact.TubeFoldAsMortarGivesTheNodeToSegmentForce, a third panel: the
+end of the crush with the fold as mortar and as node-to-segment (linear cells).
+Reads the CSV files the tests write in build/curves/.
 
     plot.py OUT.png [CURVES_DIR (default build/curves)]
 """
@@ -31,7 +33,10 @@ def main():
     curves = sys.argv[2] if len(sys.argv) > 2 else "build/curves"
     curve = read(os.path.join(curves, "tube_crush.csv"))
     shape = read(os.path.join(curves, "tube_crush_shape.csv"))
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.6))
+    mortar_csv = os.path.join(curves, "tube_crush_mortar.csv")
+    mortar = read(mortar_csv) if os.path.exists(mortar_csv) else None
+    fig, axes = plt.subplots(1, 3 if mortar else 2, figsize=(16 if mortar else 11, 4.6))
+    a1, a2 = axes[0], axes[1]
     c = [float(r["closure"]) for r in curve]
     f = [float(r["force"]) for r in curve]
     a1.plot(c, f, "o-", ms=3, label="Signorini (force of a bar on the whole ring)")
@@ -58,6 +63,18 @@ def main():
     a2.set_aspect("equal")
     a2.set_title("Deformed walls at the end")
     a2.legend(loc="upper right")
+    if mortar:
+        a3 = axes[2]
+        for disc, style in (("node_to_segment", "k-"), ("mortar", "ro")):
+            pts = [(float(r["closure"]), float(r["force"])) for r in mortar if r["discretization"] == disc]
+            pts = [p for p in pts if p[0] > 17]
+            label = "fold as node_to_segment (Lagrange)" if disc == "node_to_segment" else \
+                "fold as mortar (augmented Lagrangian)"
+            a3.plot([p[0] for p in pts], [p[1] for p in pts], style, ms=3, lw=1, label=label)
+        a3.set_xlabel("closure of the bars 2d (mm)")
+        a3.set_ylabel("bar force P (N per mm of depth)")
+        a3.set_title("End of the crush, linear cells (24 and 20 per quarter)")
+        a3.legend(loc="upper left")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print("wrote", out)
