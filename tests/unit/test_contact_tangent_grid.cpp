@@ -303,9 +303,7 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   ContactCombination mortar_friction;
   mortar_friction.discretization = "mortar";
   mortar_friction.friction = "coulomb";
-  EXPECT_EQ(check_contact_combination(mortar_friction).key, "friction");
-  mortar_friction.friction = "none";
-  EXPECT_TRUE(check_contact_combination(mortar_friction).message.empty());
+  EXPECT_TRUE(check_contact_combination(mortar_friction).message.empty()) << "mortar has friction in 2D";
   ContactCombination sts_friction;
   sts_friction.discretization = "segment_to_segment";
   sts_friction.friction = "coulomb";

@@ -78,6 +78,31 @@ std::vector<test::GridCase> sts_grid() {
 INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridSegmentToSegment, ::testing::ValuesIn(sts_grid()),
                          [](const auto& info) { return test::grid_name(info.param); });
 
+// Dual mortar with friction (2D): the same family, each method at two points of the grid. Its
+// slip per slave node is the average of x_s - x_m(chi) over the segments of the node's facets,
+// weighted by the node's (non-negative) shape function and frozen as a combination of nodes at
+// the slip origin, like segment-to-segment's. Measured (one run each, every method without a
+// cutback): c/a -4.4 % (multipliers) and -0.7 % (penalty systems) at mu 0.3, Q/(mu P) 0.6;
+// -3.8 % at mu 0.8, 0.2; 9.5 and 6.5 Newton iterations per increment with multipliers, 13.5 and
+// 8.5 with the penalty systems. The guards are 10 and 14.5 (the issue's target is 8: missed at
+// mu 0.3, as segment-to-segment misses it).
+class FrictionGridMortar : public ::testing::TestWithParam<test::GridCase> {};
+
+TEST_P(FrictionGridMortar, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
+  check_grid_case(GetParam(), GetParam().method == "lagrange" ? 10 : 14.5);
+}
+
+std::vector<test::GridCase> mortar_grid() {
+  std::vector<test::GridCase> v;
+  for (const char* m : {"lagrange", "augmented_lagrangian", "penalty"})
+    for (auto [mu, ratio] : {std::pair{0.3, 0.6}, std::pair{0.8, 0.2}})
+      v.push_back({mu, ratio, m, 0.01, 1.0, "mortar"});
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridMortar, ::testing::ValuesIn(mortar_grid()),
+                         [](const auto& info) { return test::grid_name(info.param); });
+
 // The same deck in (mm, N, MPa) and in (m, N, Pa), the mesh drawn in mm and scaled: the same
 // stick and contact zones and forces to 1e-8 relative (issue 13). The two are different
 // floating-point computations (every length 1e-3, every stress 1e6 times the other's), so

@@ -72,12 +72,6 @@ const std::vector<Rule>& rules() {
          return std::string("mortar is available in 2D (plane strain, plane stress, axisymmetric) so far: use "
                             "node_to_segment in 3D");
        }},
-      {"mortar with friction",
-       [](const ContactCombination& c) { return c.discretization == "mortar" && c.friction != "none"; }, "friction",
-       [](const ContactCombination&) {
-         return std::string("mortar is frictionless so far (weighted slips are not built yet): use node_to_segment "
-                            "for friction");
-       }},
       {"segment_to_segment with friction in 3D",
        [](const ContactCombination& c) {
          return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension);

@@ -521,6 +521,25 @@ class Mortar final : public DeformableMaster {
       results[e].push_back(std::move(r));
     }
     gather(slave_facets_, index_, results, facet, out);
+    // Friction's slip origin: each node's weighted relative position gathered over its facets'
+    // segments, divided by its weight there (an average of x_s - x_m(chi) with N~_j), as a
+    // combination of the constraint's nodes (master_weights, slave_coefficient).
+    std::vector<VecX> relative(out.size());
+    std::vector<Real> slip_weight(out.size(), 0.0);
+    for (size_t j = 0; j < out.size(); ++j)
+      if (out[j].kind != ConstraintKind::none) relative[j].setZero(static_cast<Index>(out[j].nodes.size()));
+    for (Index e = 0; e < ne; ++e)
+      for (const MortarFacetResult& r : results[e])
+        for (size_t k = 0; k < r.relative.size(); ++k) {
+          const Index j = index_[slave_facets_.facets[e][k]];
+          if (j < 0) continue;
+          const std::vector<Index>& cn = out[j].nodes;
+          for (size_t a = 0; a < r.nodes.size() && a < static_cast<size_t>(r.relative[k].size()); ++a) {
+            const auto it = std::find(cn.begin(), cn.end(), r.nodes[a]);
+            if (it != cn.end()) relative[j](it - cn.begin()) += r.relative[k](static_cast<Index>(a));
+          }
+          slip_weight[j] += r.slip_weight[k];
+        }
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
     // Self-contact: by the weight of the transformed basis (the gap is then its coefficient), the
@@ -541,6 +560,13 @@ class Mortar final : public DeformableMaster {
       c.grad /= scale;
       c.hess /= scale;
       set_slave_normal_2d(slave_facets_, x, c);
+      // The slip origin (after the normal, which may append nodes the slip does not involve);
+      // the weight is positive wherever a segment covers the node's facets (N~ >= 0).
+      if (slip_weight[j] > 0) {
+        c.slave_coefficient = relative[j](0) / slip_weight[j];
+        c.master_weights.assign(c.nodes.size() - 1, 0.0);
+        for (Index k = 1; k < relative[j].size(); ++k) c.master_weights[k - 1] = -relative[j](k) / slip_weight[j];
+      }
     }
   }
 

@@ -162,9 +162,15 @@ int m_index(int ns, int i, int k) {  // the place of M_ik (i <= k) in u
   return ns + k * (k + 1) / 2 + i;
 }
 
+// One integration point of a segment, for friction's slip (plain numbers): the slave and master
+// shape functions there and the point's weight (current dA times the Gauss weight).
+struct SegmentPoint {
+  Real N[3], M[3], w;
+};
+
 template <class T>
 bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const MortarMeasure& ms, T* u, Real& seglen,
-                       Real& cover) {
+                       Real& cover, std::vector<SegmentPoint>* points = nullptr) {
   const int ns = L.ns, nm = L.nm;
   P2<T> xs[3], xm[3], nk[3];
   for (int k = 0; k < ns; ++k) xs[k] = X[L.slave[k]];
@@ -254,6 +260,12 @@ bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const Morta
     const T w = half * gw[q] * jac * measure(x);
     length += value(half) * gw[q] * value(jac);
     const T gw_ = g * w;
+    if (points) {
+      SegmentPoint sp;
+      for (int k = 0; k < 3; ++k) sp.N[k] = k < ns ? value(N[k]) : 0, sp.M[k] = k < nm ? value(M2[k]) : 0;
+      sp.w = value(w);
+      points->push_back(sp);
+    }
     for (int k = 0; k < ns; ++k) {
       u[k] += N[k] * gw_;
       const T nw = N[k] * w;
@@ -284,6 +296,16 @@ bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const Morta
 // partly covered corner may be negative and flip its gap's sign). The gaps are then those of
 // the N~ coefficients, and the node weights int N~_j dA0 (mortar_slave_weights).
 constexpr Real kTransform = 0.25;
+
+// N~ from N (line3: the transformed basis above; line2: N itself).
+void transformed_basis(int ns, const Real* N, Real* Nt) {
+  for (int k = 0; k < ns; ++k) Nt[k] = N[k];
+  if (ns == 3) {
+    Nt[0] += kTransform * N[2];
+    Nt[1] += kTransform * N[2];
+    Nt[2] = (1 - 2 * kTransform) * N[2];
+  }
+}
 template <class T>
 void dual_weighted_gaps(int ns, const T* u_in, bool positive, T* gap) {
   T u[kMaxU];
@@ -418,6 +440,9 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   Real cover = 0;
   std::vector<SegmentIntegrals> segments;
   std::vector<Index> nodes;
+  std::vector<SegmentPoint> points;
+  std::vector<VecX> relative(ns);
+  std::vector<Real> slip_weight(ns, 0.0);
   for (Index m : masters) {
     const Layout L = make_layout(slave, e, master, m, nodes);
     std::vector<Vec3> xl(nodes.size());
@@ -425,11 +450,33 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
     std::vector<P2<Real>> X(xl.size());
     for (size_t i = 0; i < xl.size(); ++i) X[i] = {xl[i](0), xl[i](1)};
     Real us[kMaxU], c = 0;
-    if (!segment_integrals(L, X, measure, us, r.segment_length, c)) continue;
+    points.clear();
+    if (!segment_integrals(L, X, measure, us, r.segment_length, c, &points)) continue;
     if (r.masters.empty() || c > cover) r.facet = m;  // the master of the longest segment
     r.masters.push_back(m);
     cover += c;
     for (int i = 0; i < nu; ++i) u[i] += us[i];
+    // Friction's relative positions: per slave facet node k, sum_q N~_k(xi_q) w_q (x_s(xi_q) -
+    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q.
+    std::vector<int> at(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      auto it = std::find(r.nodes.begin(), r.nodes.end(), nodes[i]);
+      at[i] = static_cast<int>(it - r.nodes.begin());
+      if (it == r.nodes.end()) {
+        r.nodes.push_back(nodes[i]);
+        for (VecX& v : relative) v.conservativeResize(static_cast<Index>(r.nodes.size())), v.tail(1).setZero();
+      }
+    }
+    for (const SegmentPoint& q : points) {
+      Real Nt[3];
+      transformed_basis(ns, q.N, Nt);
+      for (int k = 0; k < ns; ++k) {
+        const Real wk = Nt[k] * q.w;
+        slip_weight[k] += wk;
+        for (int i = 0; i < ns; ++i) relative[k](at[L.slave[i]]) += wk * q.N[i];
+        for (int l = 0; l < L.nm; ++l) relative[k](at[L.master[l]]) -= wk * q.M[l];
+      }
+    }
     if (!derivatives) continue;
     SegmentIntegrals s;
     s.nodes = nodes;
@@ -454,6 +501,8 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   Real gap[3];
   dual_weighted_gaps(ns, u, positive_basis, gap);
   r.gap.assign(gap, gap + ns);
+  r.relative = std::move(relative);
+  r.slip_weight = std::move(slip_weight);
   if (!derivatives) return r;
 
   // The chain rule through g~(u): grad = sum_a f_a grad u_a, hess = sum_a f_a hess u_a +
@@ -463,9 +512,6 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
   dual_weighted_gaps(ns, uh, positive_basis, gh);
   std::vector<int> at;
-  for (const SegmentIntegrals& s : segments)
-    for (Index n : s.nodes)
-      if (std::find(r.nodes.begin(), r.nodes.end(), n) == r.nodes.end()) r.nodes.push_back(n);
   const Index n2 = 2 * static_cast<Index>(r.nodes.size());
   r.grad.assign(ns, VecX::Zero(n2));
   r.hess.assign(ns, MatX::Zero(n2, n2));

@@ -44,6 +44,12 @@ struct MortarFacetResult {
                               // (the master nodes: of all the facets in `masters`)
   std::vector<VecX> grad;     // d/dx over `nodes` (2 per node)
   std::vector<MatX> hess;
+  // Friction: per node k of the slave facet, its share of the weighted relative position
+  // int_c N~_k (x_s - x_m(chi)) dA as coefficients of `nodes` (slave nodes positive, master
+  // nodes negative), and of its weight int_c N~_k dA (N~ = N on line2, the transformed basis on
+  // line3: non-negative). Values only.
+  std::vector<VecX> relative;
+  std::vector<Real> slip_weight;
 };
 
 // `slave`: the slave surface's facets (with node_facets, for the averaged normals); facet e of
