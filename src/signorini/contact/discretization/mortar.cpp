@@ -152,10 +152,10 @@ bool solve_parameter(Real xi0, const FR& residual_real, const FT& residual, T& x
 // `cover`: the segment's share of the slave facet's parameter range. False when the facets do
 // not overlap, do not face each other, or the slave-to-master map folds over (a point of the
 // segment projects off the master facet: beyond the focus of a concave slave wall's normals).
-constexpr int kMaxU = 9;
+constexpr int kMaxU = 9;  // G (3) and the upper triangle of M (6) for a line3 slave facet
 // The least share of a slave facet's parameter range that must be covered for its weighted gaps
 // to count (see mortar_element_2d).
-constexpr Real kMinCover = 1e-3;  // G (3) and the upper triangle of M (6) for a line3 slave facet
+constexpr Real kMinCover = 1e-3;
 int num_u(int ns) { return ns + ns * (ns + 1) / 2; }
 int m_index(int ns, int i, int k) {  // the place of M_ik (i <= k) in u
   if (i > k) std::swap(i, k);
@@ -279,8 +279,9 @@ bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const Morta
 
 // The weighted gaps from the element's summed segment integrals u: the dual basis built on the
 // covered part of the slave facet (Cichosz and Bischoff 2011, "Consistent treatment of
-// boundaries with mortar contact formulations using dual Lagrange multipliers", CMAME 200;
-// Popp, Wohlmuth, Gee, Wall 2012, sec. 3.3),
+// boundaries with mortar contact formulations using dual Lagrange multipliers", CMAME 200; used
+// by Popp, Wohlmuth, Gee and Wall 2013, "Improved robustness and consistency of 3D contact
+// algorithms based on a dual mortar approach", CMAME 264),
 //   A = D M^-1,  D_jj = sum_k M_jk,  g~_j = sum_k A_jk G_k,
 // biorthogonal on the covered part, so that a gap field the slave basis interpolates gives
 // g~_j = D_jj g_j with D_jj = int_covered N_j > 0: a node whose support a master covers only in
