@@ -214,3 +214,43 @@ TEST(Mortar, SliverOfCoverIsLeftOut) {
     EXPECT_EQ(r.overlap, overlap) << share;
   }
 }
+
+TEST(Mortar, SlipCombinationMeasuresTheRelativeMotion) {
+  // Friction's slip (mortar.hpp, `relative`, `slip_weight`): per slave node, the average of
+  // x_s - x_m(chi) over its facets' segments as a combination of nodes. Its slave coefficients
+  // sum to its weight and its master ones to minus it (a rigid translation of both curves gives
+  // no slip); on flat curves 0.01 apart it gives (0, 0.01) (the points pair along the normal),
+  // and with the coefficients frozen, a master moved by 0.03 along x gives (-0.03, 0.01). A
+  // master ending inside the last facet (x = 0.8), line2 and line3.
+  for (int order : {1, 2}) {
+    TwoCurves c(4, 7, 0.0, flat, below, order, -1.6, 0.8);
+    std::vector<Index> all(static_cast<size_t>(c.master.size()));
+    for (Index m = 0; m < c.master.size(); ++m) all[m] = m;
+    const Index first_master = order * 4 + 1;
+    std::vector<Vec3> moved = c.x;
+    for (size_t i = first_master; i < moved.size(); ++i) moved[i].x() += 0.03;
+    for (Index e = 0; e < c.slave.size(); ++e) {
+      const MortarFacetResult r = mortar_element_2d(c.slave, e, c.master, all, c.x, MortarMeasure{}, false);
+      ASSERT_TRUE(r.overlap) << e;
+      ASSERT_EQ(r.relative.size(), c.slave.facets[e].size());
+      for (size_t k = 0; k < r.relative.size(); ++k) {
+        Real slave_sum = 0, master_sum = 0;
+        Vec3 now = Vec3::Zero(), after = Vec3::Zero();
+        for (size_t a = 0; a < r.nodes.size(); ++a) {
+          const Real w = r.relative[k](static_cast<Index>(a));
+          (r.nodes[a] < first_master ? slave_sum : master_sum) += w;
+          now += w * c.x[r.nodes[a]];
+          after += w * moved[r.nodes[a]];
+        }
+        const Real W = r.slip_weight[k];
+        ASSERT_GT(W, 0) << "order " << order << " facet " << e << " node " << k;
+        EXPECT_NEAR(slave_sum, W, 1e-14) << order;
+        EXPECT_NEAR(master_sum, -W, 1e-14) << order;
+        EXPECT_NEAR(now.x() / W, 0, 1e-14) << order;
+        EXPECT_NEAR(now.y() / W, 0.01, 1e-14) << order;
+        EXPECT_NEAR(after.x() / W, -0.03, 1e-14) << order;
+        EXPECT_NEAR(after.y() / W, 0.01, 1e-14) << order;
+      }
+    }
+  }
+}
