@@ -22,6 +22,7 @@ struct PatchResult {
   bool completed = false;
   Real pressure_min = 0, pressure_max = 0, pressure_mean = 0;
   Real syy_spread = 0;  // max |sigma_yy + 10| over all cells
+  Real stretch = 1;     // the punch bottom's current length over its reference length
 };
 
 // Facets of `set` whose nodes all have x in [x0, x1].
@@ -48,7 +49,7 @@ std::vector<ElementBlock> facets_between(const Mesh& m, const std::string& set, 
 // constraint layout (the punch's end node then projects on the foundation facet left of x = 4).
 PatchResult run(const std::string& discretization, int passes, const std::string& method, int punch_cells,
                 Real punch_ux = 0, const std::string& smoothing = "none", ElementType punch_type = ElementType::quad4,
-                ElementType foundation_type = ElementType::quad4, Real slide = 0) {
+                ElementType foundation_type = ElementType::quad4, Real slide = 0, bool finite = false) {
   log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
   // Foundation [0, 8] x [0, 5] (8 x 5 cells), punch [4, 6] x [5, 7].
   Mesh f = structured_rectangle(foundation_type, 8, 5, 8, 5);
@@ -79,11 +80,14 @@ PatchResult run(const std::string& discretization, int passes, const std::string
   m.complete_node_sets();
   AnalysisSettings s;
   s.dimension = Dimension::plane_strain;
+  s.finite_strain = finite;
   Model model;
   model.settings = s;
   model.mesh = std::move(m);
   orient_facets(model.mesh);
-  auto mat = std::make_shared<LinearElastic>(1000, 0.4);
+  std::shared_ptr<Material> mat;
+  if (finite) mat = std::make_shared<NeoHookean>(1000, 0.4);
+  else mat = std::make_shared<LinearElastic>(1000, 0.4);
   model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["foundation"], mat, s));
   model.bodies.push_back(std::make_unique<Body>("punch", model.mesh.regions["punch"], mat, s));
   ContactPairSettings cs;
@@ -131,6 +135,16 @@ PatchResult run(const std::string& discretization, int passes, const std::string
       ++n;
     }
   r.pressure_mean /= n;
+  {
+    const std::vector<Vec3> x = a.positions(a.displacement());
+    Real lo = 1e300, hi = -1e300, X0 = 1e300, X1 = -1e300;
+    for (const ElementBlock& b : model.mesh.facet_sets.at("punch_bottom"))
+      for (Index node : b.conn) {
+        lo = std::min(lo, x[node](0)), hi = std::max(hi, x[node](0));
+        X0 = std::min(X0, model.mesh.nodes[node](0)), X1 = std::max(X1, model.mesh.nodes[node](0));
+      }
+    r.stretch = (hi - lo) / (X1 - X0);
+  }
   for (auto& b : model.bodies) {
     CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
     for (auto& sg : cr.stress) r.syy_spread = std::max(r.syy_spread, std::abs(sg(1) + 10));
@@ -257,6 +271,45 @@ TEST(ContactPatch, MortarIsExact) {
       }
 }
 
+
+// Dual mortar at finite strain (Neo-Hookean, E = 1000, nu = 0.4; the pressures follow the
+// surfaces): the exact state is still homogeneous, F = diag(lx, ly, 1) with Cauchy sigma_xx = 0
+// and sigma_yy = -10 in both blocks, and so must be the computed one, before and after the
+// punch slid by two foundation cells, on linear and quadratic facets (Lagrange multipliers).
+// With sigma = (mu (b - I) + Lambda ln J I) / J (material.cpp's Neo-Hookean): mu (lx^2 - 1) +
+// Lambda ln J = 0 and mu (ly^2 - 1) + Lambda ln J = -10 J, solved by Newton here (lx = 1.0056).
+// The punch is held at the foundation's homogeneous x = 4 lx (plus the slide), as the small
+// strain test holds it at 4 (1 + eps_xx); the reported pressure is the contact force per
+// reference area, 10 lx.
+TEST(ContactPatch, MortarIsExactAtFiniteStrain) {
+  const Real E = 1000, nu = 0.4, mu = E / (2 * (1 + nu)), lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+  Real lx = 1, ly = 1;
+  for (int it = 0; it < 50; ++it) {
+    const Real J = lx * ly, f1 = mu * (lx * lx - 1) + lam * std::log(J), f2 = mu * (ly * ly - 1) + lam * std::log(J) + 10 * J;
+    const Real a11 = 2 * mu * lx + lam / lx, a12 = lam / ly, a21 = lam / lx + 10 * ly, a22 = 2 * mu * ly + lam / ly + 10 * lx;
+    const Real det = a11 * a22 - a12 * a21;
+    lx -= (a22 * f1 - a12 * f2) / det;
+    ly -= (a11 * f2 - a21 * f1) / det;
+  }
+  struct Case {
+    ElementType punch, foundation;
+    int cells;
+  };
+  for (const Case& k : {Case{ElementType::quad4, ElementType::quad4, 3}, Case{ElementType::quad9, ElementType::quad4, 3},
+                        Case{ElementType::quad8, ElementType::quad8, 3}})
+    for (Real slide : {0.0, 2.0}) {
+      const std::string what = std::string(element_info(k.punch).name) + " on " + element_info(k.foundation).name +
+                               " slide " + std::to_string(slide);
+      PatchResult r = run("mortar", 1, "lagrange", k.cells, slide + 4 * (lx - 1), "none", k.punch, k.foundation, slide,
+                          true);
+      ASSERT_TRUE(r.completed) << what;
+      std::printf("  finite strain: lateral stretch %.10f (exact %.10f)\n", r.stretch, lx);
+      EXPECT_NEAR(r.stretch, lx, 1e-9) << what;
+      EXPECT_LT(r.syy_spread, 1e-8 * 10) << what;
+      EXPECT_NEAR(r.pressure_min, 10 * lx, 1e-8 * 10) << what;
+      EXPECT_NEAR(r.pressure_max, 10 * lx, 1e-8 * 10) << what;
+    }
+}
 
 // Multi-body contact built by contact: {auto: {surfaces: [...]}} (examples/plate_stack): three
 // plates stacked, frictional (mu = 0.1). The pairs: bottom-middle and middle-top (the finer
