@@ -60,8 +60,9 @@ inline std::string example_deck_text(const std::string& example) {
   return deck;
 }
 
-// `enforcement` (optional) replaces the deck's "enforcement: {method: lagrange}"; `order` > 0
-// raises the mesh to that order.
+// `enforcement` (optional: deck lines, e.g. "enforcement: {method: penalty}\n    discretization:
+// mortar") replaces the deck's "enforcement: {method: lagrange}", or goes after the first
+// pair's name where the deck has none; `order` > 0 raises the mesh to that order.
 inline HertzRun run_hertz(const std::string& example, Real hc, const std::string& enforcement = "", int order = 0) {
   std::string deck = example_deck_text(example);
   const size_t p = deck.find("hc: ");
@@ -70,7 +71,16 @@ inline HertzRun run_hertz(const std::string& example, Real hc, const std::string
   if (order > 0) deck.insert(deck.find('}', p) + 1, ", order: " + std::to_string(order));
   if (!enforcement.empty()) {
     const size_t q = deck.find("enforcement: {method: lagrange}");
-    if (q != std::string::npos) deck.replace(q, std::string("enforcement: {method: lagrange}").size(), enforcement);
+    if (q != std::string::npos) {
+      deck.replace(q, std::string("enforcement: {method: lagrange}").size(), enforcement);
+    } else {
+      // A deck without that key (the default enforcement): the lines go after the first
+      // pair's name.
+      const size_t c = deck.find("contact:\n  - name: ");
+      const size_t eol = c == std::string::npos ? c : deck.find('\n', c + 9);
+      EXPECT_NE(eol, std::string::npos) << example << ": no place for '" << enforcement << "'";
+      if (eol != std::string::npos) deck.insert(eol, "\n    " + enforcement);
+    }
   }
   return run_deck_text(deck, example);
 }

@@ -65,6 +65,22 @@ TEST(Hertz, CylinderMortar) {
     }
 }
 
+// Dual mortar on the axisymmetric sphere (examples/hertz_sphere_axisymmetric): the weighted
+// gaps integrate 2 pi r dA (mortar.hpp), so the nodal pressures are per area of the surface of
+// revolution. Measured below (hc = 0.005, Lagrange).
+TEST(Hertz, SphereAxisymmetricMortar) {
+  test::HertzRun r = test::run_hertz("hertz_sphere_axisymmetric", 0.005,
+                                     "enforcement: {method: lagrange}\n    discretization: mortar");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  const auto& inc = r.summary.increments.back();
+  std::printf("axisymmetric mortar: p0 error %.3f %%, a error %.3f %%, %d iterations, min closed pressure %.4g\n",
+              100 * r.checks[0].error, 100 * r.checks[1].error, inc.iterations, r.min_closed_pressure);
+  EXPECT_LT(r.checks[0].error, 0.02);
+  EXPECT_LT(r.checks[1].error, 0.03);
+  EXPECT_LT(r.checks[2].error, 1e-4) << "force balance";
+  EXPECT_GT(r.min_closed_pressure, 0);
+}
+
 TEST(Hertz, EveryEnforcementMethodAgrees) {
   // The plane-strain Hertz example with each method; the augmented Lagrangian with a soft
   // penalty (factor 1) so that Uzawa updates are needed.
