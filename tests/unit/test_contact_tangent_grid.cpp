@@ -323,10 +323,7 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   EXPECT_TRUE(check_contact_combination(self).message.empty()) << "self-contact with friction";
   self.friction = "none";
   self.discretization = "mortar";
-  EXPECT_EQ(check_contact_combination(self).key, "enforcement") << "self-contact with mortar and multipliers";
-  self.method = "penalty";
-  EXPECT_TRUE(check_contact_combination(self).message.empty()) << "self-contact with mortar and penalty";
-  self.method = "lagrange";
+  EXPECT_TRUE(check_contact_combination(self).message.empty()) << "self-contact with mortar (one pass)";
   self.discretization = "segment_to_segment";
   EXPECT_EQ(check_contact_combination(self).key, "self");
   self.discretization = "node_to_segment";

@@ -514,20 +514,15 @@ TEST(Deck, SelfContactEntries) {
   EXPECT_MESSAGE(m, "self_missing.yaml:", "contact[0].surface", "self: true");
   m = error_of("self_same", kGood + "contact:\n  - {name: fold, master: Top, slave: Top}\n");
   EXPECT_MESSAGE(m, "self_same.yaml:", "contact[0].slave", "surface: Top, self: true");
-  // Mortar: with penalty or the augmented Lagrangian; multipliers (the default) are refused at
-  // the pair (no enforcement key to point at) or at its enforcement.
-  m = error_of("self_mortar", kGood + "contact:\n  - {name: fold, surface: Top, self: true, discretization: mortar}\n");
-  EXPECT_MESSAGE(m, "self_mortar.yaml:", "contact[0]", "penalty or augmented_lagrangian");
-  m = error_of("self_mortar_lagrange", kGood + "contact:\n  - {name: fold, surface: Top, self: true, discretization: "
-                                             "mortar, enforcement: {method: lagrange}}\n");
-  EXPECT_MESSAGE(m, "self_mortar_lagrange.yaml:", "contact[0].enforcement", "two half passes");
-  Model al = read_deck(write_deck("self_mortar_al", kGood + "contact:\n  - {name: fold, surface: Top, self: true, "
-                                                            "discretization: mortar, enforcement: {method: "
-                                                            "augmented_lagrangian}}\n"),
-                       r);
-  ASSERT_EQ(al.contacts.size(), 1u);
-  EXPECT_EQ(al.contacts[0].discretization, "mortar");
-  EXPECT_TRUE(al.contacts[0].self);
+  // Mortar: with the default enforcement (Lagrange multipliers: one pass, slave and master
+  // facets assigned at detection) or any other.
+  Model mortar = read_deck(write_deck("self_mortar", kGood + "contact:\n  - {name: fold, surface: Top, self: true, "
+                                                             "discretization: mortar}\n"),
+                           r);
+  ASSERT_EQ(mortar.contacts.size(), 1u);
+  EXPECT_EQ(mortar.contacts[0].discretization, "mortar");
+  EXPECT_EQ(mortar.contacts[0].method, "lagrange");
+  EXPECT_TRUE(mortar.contacts[0].self);
   m = error_of("self_sts", kGood + "contact:\n  - {name: fold, surface: Top, self: true, discretization: "
                                  "segment_to_segment}\n");
   EXPECT_MESSAGE(m, "self_sts.yaml:", "contact[0].self", "node_to_segment or mortar");

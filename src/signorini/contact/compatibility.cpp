@@ -103,14 +103,6 @@ const std::vector<Rule>& rules() {
            return std::string("self-contact has one pass: every node of the surface is slave already");
          return std::string("self-contact has no smoothing so far (the surface stays faceted)");
        }},
-      {"self-contact with mortar and Lagrange multipliers",
-       [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && c.method == "lagrange"; },
-       "enforcement",
-       [](const ContactCombination&) {
-         return std::string("self-contact with mortar integrates both sides of a fold against each other (two half "
-                            "passes), whose constraints are redundant where the walls close, which multipliers cannot "
-                            "take: use enforcement penalty or augmented_lagrangian, or node_to_segment");
-       }},
       {"two passes other than node_to_segment",
        [](const ContactCombination& c) { return c.passes == 2 && c.discretization != "node_to_segment"; }, "passes",
        [](const ContactCombination& c) {

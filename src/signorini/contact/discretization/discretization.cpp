@@ -453,18 +453,16 @@ class NodeToNode final : public DeformableMaster {
 // enforcement's force p w_j grad(g~_j / w_j) = p grad g~_j is the mortar virtual work with
 // the nodal pressure p as the dual multiplier.
 //
-// Self-contact (ContactPairSettings::self): the surface's facets are slave and master at once.
-// A slave facet's candidates are the facets within d_max (boxes) that face it and are not in
-// its two-ring (the facets sharing a node with a facet that shares a node with it: always within
-// reach, never a partner), as in SelfNodeToSegment. Both sides of a fold then integrate
-// against each other, as two passes would (Yang and Laursen 2008, "A large deformation mortar
-// formulation of self contact with finite sliding", CMAME 197, integrate both sides with half
-// the pressure each): every node's constraint has its full weight, as in SelfNodeToSegment, so
-// that its reported pressure (its nodal force over its weight, both passes' forces) is the
-// contact pressure; with penalty the two passes make the interface twice as stiff as one pass.
-// The passes' constraints are redundant where the walls close (equal on matching meshes),
-// which multipliers cannot take: penalty or the augmented Lagrangian (compatibility.cpp),
-// whose Uzawa updates converge to the total pressure. Where a master covers a slave facet only
+// Self-contact (ContactPairSettings::self): the surface's facets are slave or master facets.
+// Two facets are partners when they are within d_max (boxes), face each other and neither is
+// in the other's two-ring (the facets sharing a node with a facet that shares a node with it:
+// always within reach, never a partner), as in SelfNodeToSegment. The partner graph is
+// two-coloured, slave and master, at each detection (keeping each contact zone's colours), so
+// that every pair is integrated once, from its slave side, as one pass (the dynamic slave and
+// master assignment of mortar self-contact; integrating both sides, as Yang and Laursen 2008,
+// CMAME 197, do with half the pressure each, makes the two sides' constraints redundant where
+// the walls close, which Lagrange multipliers cannot take). Only the slave side's nodes carry
+// constraints and pressures. Where a master covers a slave facet only
 // in part (the fold's ends, the facets beyond d_max) the dual basis is built on the covered
 // part (mortar.hpp); line3 facets use the transformed basis whose functions are non-negative,
 // and a node's weighted gap is scaled by that basis' weight (the constraint's gap is then the
@@ -621,9 +619,10 @@ class Mortar final : public DeformableMaster {
     item.resize(start.back());
     std::vector<Index> fill(start.begin(), start.end() - 1);
     for (Index f = 0; f < nf; ++f) visit(lo[f] - grow, hi[f] + grow, [&](Index c) { item[fill[c]++] = f; });
-    std::set<Index> found;
-    for (Index e = 0; e < nf; ++e) {
-      found.clear();
+    // The facets near each other (either's box within the other's grown box), facing, outside
+    // the two-rings: an undirected graph.
+    std::vector<std::vector<Index>> near(nf);
+    for (Index e = 0; e < nf; ++e)
       visit(lo[e], hi[e], [&](Index c) {
         for (Index k = start[c]; k < start[c + 1]; ++k) {
           const Index f = item[k];
@@ -631,15 +630,60 @@ class Mortar final : public DeformableMaster {
           if (((lo[f] - grow).head(2).array() > hi[e].head(2).array()).any() ||
               ((hi[f] + grow).head(2).array() < lo[e].head(2).array()).any())
             continue;
-          found.insert(f);
+          near[e].push_back(f);
+          near[f].push_back(e);
         }
       });
-      bool was_tracked = false;
-      for (Index n : sf.facets[e])
-        if (index_[n] >= 0 && tracked[index_[n]]) was_tracked = true;
-      if (found.empty() && was_tracked) continue;
-      candidates_[e].assign(found.begin(), found.end());
+    for (auto& v : near) {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
     }
+    // One pass: the graph's facets two-coloured, slave (0) and master (1), so that each pair is
+    // integrated once, from its slave side. A component keeps the colours it had at the last
+    // detection (its seed is a facet that had one, with it), so that contact zones do not swap
+    // sides as they grow; an edge whose ends get the same colour (an odd cycle: three walls
+    // meeting) is not integrated.
+    std::vector<int> color(static_cast<size_t>(nf), -1);
+    std::vector<Index> component, queue;
+    for (Index e0 = 0; e0 < nf; ++e0) {
+      if (color[e0] >= 0 || near[e0].empty()) continue;
+      component.clear();
+      queue.assign(1, e0);
+      color[e0] = 0;  // provisional: marks the component
+      while (!queue.empty()) {
+        const Index e = queue.back();
+        queue.pop_back();
+        component.push_back(e);
+        for (Index f : near[e])
+          if (color[f] < 0) color[f] = 0, queue.push_back(f);
+      }
+      std::sort(component.begin(), component.end());
+      Index seed = component.front();
+      int seed_color = 0;
+      for (Index e : component)
+        if (e < static_cast<Index>(color_.size()) && color_[e] >= 0) {
+          seed = e;
+          seed_color = color_[e];
+          break;
+        }
+      for (Index e : component) color[e] = -1;
+      color[seed] = seed_color;
+      queue.assign(1, seed);
+      while (!queue.empty()) {
+        const Index e = queue.back();
+        queue.pop_back();
+        for (Index f : near[e])
+          if (color[f] < 0) color[f] = 1 - color[e], queue.push_back(f);
+      }
+    }
+    color_ = color;
+    for (Index e = 0; e < nf; ++e) {
+      candidates_[e].clear();
+      if (color[e] != 0) continue;
+      for (Index f : near[e])
+        if (color[f] == 1) candidates_[e].push_back(f);
+    }
+    (void)tracked;  // a contact zone is within d_max: no tracking beyond it
   }
 
   bool self_;
@@ -649,6 +693,7 @@ class Mortar final : public DeformableMaster {
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
   std::vector<std::vector<Index>> excluded_;     // self-contact, per facet: its two-ring (sorted)
   std::vector<Real> gap_scale_;                  // self-contact, per slave node: int N~_j dA0
+  std::vector<int> color_;                       // self-contact, per facet: 0 slave, 1 master, -1 neither
 };
 
 // Segment-to-segment by integration points (segment_to_segment.hpp): each slave facet's Gauss
