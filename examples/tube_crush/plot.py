@@ -69,7 +69,7 @@ def main():
             pts = [(float(r["closure"]), float(r["force"])) for r in mortar if r["discretization"] == disc]
             pts = [p for p in pts if p[0] > 17]
             label = "fold as node_to_segment (Lagrange)" if disc == "node_to_segment" else \
-                "fold as mortar (augmented Lagrangian)"
+                "fold as mortar (Lagrange)"
             a3.plot([p[0] for p in pts], [p[1] for p in pts], style, ms=3, lw=1, label=label)
         a3.set_xlabel("closure of the bars 2d (mm)")
         a3.set_ylabel("bar force P (N per mm of depth)")
