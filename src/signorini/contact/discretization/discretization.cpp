@@ -31,6 +31,72 @@ void append_node(Constraint& c, Index node, int dim) {
   c.normal_jacobian.rightCols(dim).setZero();
 }
 
+// A uniform grid of axis-aligned boxes (self-contact's searches): cells about a box wide (the
+// mean of the boxes' largest extents), coarsened while there would be more than 8 cells per
+// box; each box is listed in the cells it spans. A query visits the boxes listed in the cells a
+// point or a box touches (a box may be visited more than once).
+class BoxGrid {
+ public:
+  BoxGrid(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int dim) : dim_(dim) {
+    const Index n = static_cast<Index>(lo.size());
+    glo_ = Vec3::Constant(std::numeric_limits<Real>::infinity());
+    Vec3 ghi = -glo_;
+    Real extent = 0;
+    for (Index b = 0; b < n; ++b) {
+      glo_ = glo_.cwiseMin(lo[b]);
+      ghi = ghi.cwiseMax(hi[b]);
+      extent += (hi[b] - lo[b]).head(dim).maxCoeff();
+    }
+    cell_ = n > 0 ? extent / static_cast<Real>(n) : 1;
+    if (!(cell_ > 0)) cell_ = 1;  // every box a point: one cell will do
+    for (;;) {
+      Real total = 1;
+      for (int d = 0; d < dim; ++d) {
+        count_[d] = n > 0 ? static_cast<Index>(std::floor((ghi(d) - glo_(d)) / cell_)) + 1 : 1;
+        total *= static_cast<Real>(count_[d]);
+      }
+      if (total <= 8.0 * static_cast<Real>(n) + 64) break;
+      cell_ *= 1.5;
+    }
+    start_.assign(static_cast<size_t>(count_[0] * count_[1] * count_[2]) + 1, 0);
+    for (Index b = 0; b < n; ++b) cells(lo[b], hi[b], [&](Index c) { ++start_[c + 1]; });
+    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    item_.resize(start_.back());
+    std::vector<Index> fill(start_.begin(), start_.end() - 1);
+    for (Index b = 0; b < n; ++b) cells(lo[b], hi[b], [&](Index c) { item_[fill[c]++] = b; });
+  }
+  // fn(b) for the boxes listed in the cells that [a, b] touches.
+  template <class F>
+  void visit(const Vec3& a, const Vec3& b, F&& fn) const {
+    cells(a, b, [&](Index c) {
+      for (Index k = start_[c]; k < start_[c + 1]; ++k) fn(item_[k]);
+    });
+  }
+  template <class F>
+  void visit(const Vec3& p, F&& fn) const {
+    visit(p, p, fn);
+  }
+
+ private:
+  Index cell_of(Real v, int d) const {
+    const Real c = std::floor((v - glo_(d)) / cell_);
+    return static_cast<Index>(std::clamp<Real>(c, 0, static_cast<Real>(count_[d] - 1)));
+  }
+  template <class F>
+  void cells(const Vec3& a, const Vec3& b, F&& fn) const {
+    std::array<Index, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    for (int d = 0; d < dim_; ++d) lo[d] = cell_of(a(d), d), hi[d] = cell_of(b(d), d);
+    for (Index k = lo[2]; k <= hi[2]; ++k)
+      for (Index j = lo[1]; j <= hi[1]; ++j)
+        for (Index i = lo[0]; i <= hi[0]; ++i) fn((k * count_[1] + j) * count_[0] + i);
+  }
+  int dim_;
+  Vec3 glo_;
+  Real cell_ = 1;
+  std::array<Index, 3> count_{1, 1, 1};
+  std::vector<Index> start_, item_;  // boxes per cell (compressed rows)
+};
+
 }  // namespace
 
 SlipOrigin Discretization::origin(const Constraint& c, const Vec3&, const VecX&) const {
@@ -328,8 +394,6 @@ class SelfNodeToSegment final : public NodeToSegment {
     if (nf == 0) return best;
     const int nc = dim_ == 2 ? 2 : master_.corners(0);
     std::vector<Vec3> corners(static_cast<size_t>(nf) * nc), normal(nf), lo(nf), hi(nf);
-    Vec3 glo = Vec3::Constant(std::numeric_limits<Real>::infinity()), ghi = -glo;
-    Real extent = 0;
     std::vector<Vec3> xf;
     for (Index f = 0; f < nf; ++f) {
       xf.clear();
@@ -347,42 +411,8 @@ class SelfNodeToSegment final : public NodeToSegment {
       normal[f] = facet_normal(master_.type[f], xf, centre, dim_);
       lo[f].array() -= dmax;
       hi[f].array() += dmax;
-      glo = glo.cwiseMin(lo[f]);
-      ghi = ghi.cwiseMax(hi[f]);
-      extent += (hi[f] - lo[f]).head(dim_).maxCoeff();
     }
-    // Cells about the size of a grown box (each box then spans a few cells per direction),
-    // coarsened while there would be more than 8 per facet.
-    Real cell = extent / static_cast<Real>(nf);
-    if (!(cell > 0)) cell = 1;  // every facet a point and d_max zero: one cell will do
-    std::array<Index, 3> count{1, 1, 1};
-    for (;;) {
-      Real total = 1;
-      for (int d = 0; d < dim_; ++d) {
-        count[d] = static_cast<Index>(std::floor((ghi(d) - glo(d)) / cell)) + 1;
-        total *= static_cast<Real>(count[d]);
-      }
-      if (total <= 8.0 * static_cast<Real>(nf) + 64) break;
-      cell *= 1.5;
-    }
-    auto cell_of = [&](const Vec3& p, int d) {
-      const Real c = std::floor((p(d) - glo(d)) / cell);
-      return static_cast<Index>(std::clamp<Real>(c, 0, static_cast<Real>(count[d] - 1)));
-    };
-    auto cell_range = [&](Index f, auto&& visit) {
-      std::array<Index, 3> a{0, 0, 0}, b{0, 0, 0};
-      for (int d = 0; d < dim_; ++d) a[d] = cell_of(lo[f], d), b[d] = cell_of(hi[f], d);
-      for (Index k = a[2]; k <= b[2]; ++k)
-        for (Index j = a[1]; j <= b[1]; ++j)
-          for (Index i = a[0]; i <= b[0]; ++i) visit((k * count[1] + j) * count[0] + i);
-    };
-    // Facets per cell (compressed rows).
-    std::vector<Index> start(static_cast<size_t>(count[0] * count[1] * count[2]) + 1, 0), item;
-    for (Index f = 0; f < nf; ++f) cell_range(f, [&](Index c) { ++start[c + 1]; });
-    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
-    item.resize(start.back());
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index f = 0; f < nf; ++f) cell_range(f, [&](Index c) { item[fill[c]++] = f; });
+    const BoxGrid grid(lo, hi, dim_);  // the facets' boxes grown by d_max
     const Index ns = static_cast<Index>(slave_.nodes.size());
 #pragma omp parallel for schedule(dynamic, 64)
     for (Index j = 0; j < ns; ++j) {
@@ -390,16 +420,13 @@ class SelfNodeToSegment final : public NodeToSegment {
       const Vec3& p = x[node];
       if (!p.allFinite()) continue;
       const Vec3 nn = master_.node_normal(node, x, dim_);
-      Index c = 0;
-      for (int d = dim_ - 1; d >= 0; --d) c = c * count[d] + cell_of(p, d);
       Real bd = dmax;
       const std::vector<Index>& ex = excluded_[j];
-      for (Index k = start[c]; k < start[c + 1]; ++k) {
-        const Index f = item[k];
-        if (normal[f].dot(nn) >= 0 || std::binary_search(ex.begin(), ex.end(), f)) continue;
+      grid.visit(p, [&](Index f) {
+        if (normal[f].dot(nn) >= 0 || std::binary_search(ex.begin(), ex.end(), f)) return;
         const Real dist = point_facet_distance(corners.data() + f * nc, nc, p);
         if (dist <= bd) bd = dist, best[j] = f;
-      }
+      });
     }
     return best;
   }
@@ -577,8 +604,6 @@ class Mortar final : public DeformableMaster {
     const Index nf = sf.size();
     if (nf == 0) return;
     std::vector<Vec3> lo(nf), hi(nf), normal(nf);
-    Vec3 glo = Vec3::Constant(std::numeric_limits<Real>::infinity()), ghi = -glo;
-    Real extent = 0;
     std::vector<Vec3> xf;
     for (Index f = 0; f < nf; ++f) {
       xf.clear();
@@ -588,51 +613,21 @@ class Mortar final : public DeformableMaster {
       if (!lo[f].allFinite() || !hi[f].allFinite())
         throw SolverError("self-contact: a facet has a non-finite node (a diverging iterate)");
       normal[f] = facet_normal(sf.type[f], xf, Vec3::Zero(), dim_);
-      glo = glo.cwiseMin(lo[f]);
-      ghi = ghi.cwiseMax(hi[f]);
-      extent += (hi[f] - lo[f]).head(2).maxCoeff() + 2 * dmax;
     }
-    glo.array() -= dmax;
-    ghi.array() += dmax;
-    // Cells about the size of a grown box, coarsened while there would be more than 8 per facet.
-    Real cell = extent / static_cast<Real>(nf);
-    if (!(cell > 0)) cell = 1;
-    Index count[2] = {1, 1};
-    for (;;) {
-      for (int d = 0; d < 2; ++d) count[d] = static_cast<Index>(std::floor((ghi(d) - glo(d)) / cell)) + 1;
-      if (static_cast<Real>(count[0]) * static_cast<Real>(count[1]) <= 8.0 * static_cast<Real>(nf) + 64) break;
-      cell *= 1.5;
-    }
-    auto cell_of = [&](Real v, int d) {
-      const Real c = std::floor((v - glo(d)) / cell);
-      return static_cast<Index>(std::clamp<Real>(c, 0, static_cast<Real>(count[d] - 1)));
-    };
-    // Facets per cell (compressed rows), each facet in the cells of its grown box.
-    auto visit = [&](const Vec3& a, const Vec3& b, auto&& fn) {
-      for (Index j = cell_of(a(1), 1); j <= cell_of(b(1), 1); ++j)
-        for (Index i = cell_of(a(0), 0); i <= cell_of(b(0), 0); ++i) fn(j * count[0] + i);
-    };
-    std::vector<Index> start(static_cast<size_t>(count[0] * count[1]) + 1, 0), item;
     const Vec3 grow = Vec3::Constant(dmax);
-    for (Index f = 0; f < nf; ++f) visit(lo[f] - grow, hi[f] + grow, [&](Index c) { ++start[c + 1]; });
-    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
-    item.resize(start.back());
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index f = 0; f < nf; ++f) visit(lo[f] - grow, hi[f] + grow, [&](Index c) { item[fill[c]++] = f; });
+    std::vector<Vec3> glo(nf), ghi(nf);
+    for (Index f = 0; f < nf; ++f) glo[f] = lo[f] - grow, ghi[f] = hi[f] + grow;
+    const BoxGrid grid(glo, ghi, 2);  // the facets' boxes grown by d_max
     // The facets near each other (either's box within the other's grown box), facing, outside
     // the two-rings: an undirected graph.
     std::vector<std::vector<Index>> near(nf);
     for (Index e = 0; e < nf; ++e)
-      visit(lo[e], hi[e], [&](Index c) {
-        for (Index k = start[c]; k < start[c + 1]; ++k) {
-          const Index f = item[k];
-          if (normal[f].dot(normal[e]) >= 0 || std::binary_search(excluded_[e].begin(), excluded_[e].end(), f)) continue;
-          if (((lo[f] - grow).head(2).array() > hi[e].head(2).array()).any() ||
-              ((hi[f] + grow).head(2).array() < lo[e].head(2).array()).any())
-            continue;
-          near[e].push_back(f);
-          near[f].push_back(e);
-        }
+      grid.visit(lo[e], hi[e], [&](Index f) {
+        if (normal[f].dot(normal[e]) >= 0 || std::binary_search(excluded_[e].begin(), excluded_[e].end(), f)) return;
+        if ((glo[f].head(2).array() > hi[e].head(2).array()).any() || (ghi[f].head(2).array() < lo[e].head(2).array()).any())
+          return;
+        near[e].push_back(f);
+        near[f].push_back(e);
       });
     for (auto& v : near) {
       std::sort(v.begin(), v.end());
