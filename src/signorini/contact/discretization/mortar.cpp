@@ -512,22 +512,19 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   HU uh[kMaxU], gh[3];
   for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
   dual_weighted_gaps(ns, uh, positive_basis, gh);
-  std::vector<int> at;
   const Index n2 = 2 * static_cast<Index>(r.nodes.size());
   r.grad.assign(ns, VecX::Zero(n2));
   r.hess.assign(ns, MatX::Zero(n2, n2));
-  // Each segment's gradients in the element's numbering.
-  std::vector<MatX> G(segments.size());  // per segment: n2 x nu
+  // The segments' nodes in the element's numbering, and the gradients of the summed u there.
+  std::vector<std::vector<Index>> at(segments.size());
+  MatX Gsum = MatX::Zero(n2, nu);
   for (size_t p = 0; p < segments.size(); ++p) {
     const SegmentIntegrals& s = segments[p];
-    G[p].setZero(n2, nu);
     for (size_t a = 0; a < s.nodes.size(); ++a) {
-      const Index A = std::find(r.nodes.begin(), r.nodes.end(), s.nodes[a]) - r.nodes.begin();
-      for (int i = 0; i < nu; ++i) G[p].block(2 * A, i, 2, 1) = s.grad[i].segment(2 * static_cast<Index>(a), 2);
+      at[p].push_back(std::find(r.nodes.begin(), r.nodes.end(), s.nodes[a]) - r.nodes.begin());
+      for (int i = 0; i < nu; ++i) Gsum.block(2 * at[p][a], i, 2, 1) += s.grad[i].segment(2 * static_cast<Index>(a), 2);
     }
   }
-  MatX Gsum = MatX::Zero(n2, nu);
-  for (const MatX& g : G) Gsum += g;
   for (int j = 0; j < ns; ++j) {
     const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
     const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
@@ -535,13 +532,12 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
     r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
     for (size_t p = 0; p < segments.size(); ++p) {
       const SegmentIntegrals& s = segments[p];
-      at.clear();
-      for (Index n : s.nodes) at.push_back(static_cast<int>(std::find(r.nodes.begin(), r.nodes.end(), n) - r.nodes.begin()));
+      const std::vector<Index>& A = at[p];
       for (int i = 0; i < nu; ++i) {
         if (fa(i) == 0) continue;
-        for (size_t a = 0; a < at.size(); ++a)
-          for (size_t b = 0; b < at.size(); ++b)
-            r.hess[j].block(2 * at[a], 2 * at[b], 2, 2) +=
+        for (size_t a = 0; a < A.size(); ++a)
+          for (size_t b = 0; b < A.size(); ++b)
+            r.hess[j].block(2 * A[a], 2 * A[b], 2, 2) +=
                 fa(i) * s.hess[i].block(2 * static_cast<Index>(a), 2 * static_cast<Index>(b), 2, 2);
       }
     }
