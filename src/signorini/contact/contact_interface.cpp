@@ -429,16 +429,21 @@ Index ContactInterface::frozen_in_tension() const {
 Vec3 ContactInterface::slave_force() const {
   // The normal part: p w dg/dx over the pair's slave nodes (node-to-segment: p w n on the slave
   // node, n the master normal; mortar: the weighted gap's variation over the slave facets'
-  // nodes). Friction pulls the slave by -t per unit area.
+  // nodes). Friction: -w D_k^T t on each slave node k of the constraint (D_k = dd/dx_k; the
+  // slave node's is I for node-to-segment, so the slave is pulled by -t per unit area). In
+  // self-contact the master nodes are slave nodes too, and the sum is zero by balance.
   Vec3 f = Vec3::Zero();
   for (size_t j = 0; j < constraints_.size() && j < state_.pressure.size(); ++j) {
     const Constraint& c = constraints_[j];
     if (c.kind == ConstraintKind::none) continue;
-    for (size_t k = 0; k < c.nodes.size(); ++k)
-      if (is_slave_[c.nodes[k]])
-        f.head(dim_) += state_.pressure[j] * c.weight * c.grad.segment(static_cast<Index>(k) * dim_, dim_);
-    if (frictional() && j < state_.active.size() && state_.active[j] && c.has_slip)
-      f -= c.weight * state_.traction[j];
+    const bool friction = frictional() && j < state_.active.size() && state_.active[j] && c.has_slip;
+    for (size_t k = 0; k < c.nodes.size(); ++k) {
+      if (!is_slave_[c.nodes[k]]) continue;
+      const Index at = static_cast<Index>(k) * dim_;
+      f.head(dim_) += state_.pressure[j] * c.weight * c.grad.segment(at, dim_);
+      if (friction)
+        f.head(dim_) -= c.weight * (c.slip_jacobian.middleCols(at, dim_).transpose() * state_.traction[j].head(dim_));
+    }
   }
   return f;
 }
