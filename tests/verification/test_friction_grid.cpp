@@ -67,15 +67,16 @@ TEST_P(FrictionGridSegmentToSegment, ConvergesWithDefaultsAndMatchesCattaneoMind
   check_grid_case(GetParam(), GetParam().method == "lagrange" ? 9 : 14.5);
 }
 
-std::vector<test::GridCase> sts_grid() {
+// Each method at two points of the grid, with the given discretization.
+std::vector<test::GridCase> two_point_grid(const std::string& discretization) {
   std::vector<test::GridCase> v;
   for (const char* m : {"lagrange", "augmented_lagrangian", "penalty"})
     for (auto [mu, ratio] : {std::pair{0.3, 0.6}, std::pair{0.8, 0.2}})
-      v.push_back({mu, ratio, m, 0.01, 1.0, "segment_to_segment"});
+      v.push_back({mu, ratio, m, 0.01, 1.0, discretization});
   return v;
 }
 
-INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridSegmentToSegment, ::testing::ValuesIn(sts_grid()),
+INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridSegmentToSegment, ::testing::ValuesIn(two_point_grid("segment_to_segment")),
                          [](const auto& info) { return test::grid_name(info.param); });
 
 // Dual mortar with friction (2D): the same family, each method at two points of the grid. Its
@@ -92,15 +93,7 @@ TEST_P(FrictionGridMortar, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
   check_grid_case(GetParam(), GetParam().method == "lagrange" ? 10 : 14.5);
 }
 
-std::vector<test::GridCase> mortar_grid() {
-  std::vector<test::GridCase> v;
-  for (const char* m : {"lagrange", "augmented_lagrangian", "penalty"})
-    for (auto [mu, ratio] : {std::pair{0.3, 0.6}, std::pair{0.8, 0.2}})
-      v.push_back({mu, ratio, m, 0.01, 1.0, "mortar"});
-  return v;
-}
-
-INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridMortar, ::testing::ValuesIn(mortar_grid()),
+INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridMortar, ::testing::ValuesIn(two_point_grid("mortar")),
                          [](const auto& info) { return test::grid_name(info.param); });
 
 // The same deck in (mm, N, MPa) and in (m, N, Pa), the mesh drawn in mm and scaled: the same

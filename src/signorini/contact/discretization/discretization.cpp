@@ -278,6 +278,29 @@ class DeformableMaster : public Discretization {
     }
   }
 
+  // Friction's slip origin (mortar, segment-to-segment): the per-facet shares of each slave
+  // node's weighted relative position (R::relative[k], coefficients of R::nodes) summed into the
+  // order of its constraint's nodes.
+  template <class R>
+  static std::vector<VecX> gather_relative(const MasterSurface& sf, const std::vector<Index>& index,
+                                           const std::vector<std::vector<R>>& results, const ConstraintSet& out) {
+    std::vector<VecX> relative(out.size());
+    for (size_t j = 0; j < out.size(); ++j)
+      if (out[j].kind != ConstraintKind::none) relative[j].setZero(static_cast<Index>(out[j].nodes.size()));
+    for (Index e = 0; e < sf.size(); ++e)
+      for (const R& r : results[e])
+        for (size_t k = 0; k < r.relative.size(); ++k) {
+          const Index j = index[sf.facets[e][k]];
+          if (j < 0) continue;
+          const std::vector<Index>& cn = out[j].nodes;
+          for (size_t a = 0; a < r.nodes.size() && a < static_cast<size_t>(r.relative[k].size()); ++a) {
+            const auto it = std::find(cn.begin(), cn.end(), r.nodes[a]);
+            if (it != cn.end()) relative[j](it - cn.begin()) += r.relative[k](static_cast<Index>(a));
+          }
+        }
+    return relative;
+  }
+
   // The weighted-gap constraint's normal (2D): the slave surface's averaged normal at c's
   // slave node (mortar's nodal normal), turned to point from the master towards the slave,
   // with its variation. A node of a facet around the slave node that c does not hold yet (its
@@ -549,22 +572,12 @@ class Mortar final : public DeformableMaster {
     // Friction's slip origin: each node's weighted relative position gathered over its facets'
     // segments, divided by its weight there (an average of x_s - x_m(chi) with N~_j), as a
     // combination of the constraint's nodes (master_weights, slave_coefficient).
-    std::vector<VecX> relative(out.size());
+    const std::vector<VecX> relative = gather_relative(slave_facets_, index_, results, out);
     std::vector<Real> slip_weight(out.size(), 0.0);
-    for (size_t j = 0; j < out.size(); ++j)
-      if (out[j].kind != ConstraintKind::none) relative[j].setZero(static_cast<Index>(out[j].nodes.size()));
     for (Index e = 0; e < ne; ++e)
       for (const MortarFacetResult& r : results[e])
-        for (size_t k = 0; k < r.relative.size(); ++k) {
-          const Index j = index_[slave_facets_.facets[e][k]];
-          if (j < 0) continue;
-          const std::vector<Index>& cn = out[j].nodes;
-          for (size_t a = 0; a < r.nodes.size() && a < static_cast<size_t>(r.relative[k].size()); ++a) {
-            const auto it = std::find(cn.begin(), cn.end(), r.nodes[a]);
-            if (it != cn.end()) relative[j](it - cn.begin()) += r.relative[k](static_cast<Index>(a));
-          }
-          slip_weight[j] += r.slip_weight[k];
-        }
+        for (size_t k = 0; k < r.slip_weight.size(); ++k)
+          if (const Index j = index_[slave_facets_.facets[e][k]]; j >= 0) slip_weight[j] += r.slip_weight[k];
     // Scaled by the reference tributary area; the normal is the slave's averaged one, turned
     // to point from the master towards the slave (as a master normal does).
     // Self-contact: by the weight of the transformed basis (the gap is then its coefficient), the
@@ -734,18 +747,7 @@ class SegmentToSegment final : public DeformableMaster {
     gather(slave_facets_, index_, results, facet, out);
     // Friction's slip origin: the weighted relative positions gathered over each constraint's
     // nodes (slip_j = sum of the facets' shares / w_j, in master_weights and slave_coefficient).
-    std::vector<VecX> relative(out.size());
-    for (size_t j = 0; j < out.size(); ++j)
-      if (out[j].kind != ConstraintKind::none) relative[j].setZero(static_cast<Index>(out[j].nodes.size()));
-    for (Index e = 0; e < ne; ++e)
-      for (const IntegrationResult& r : results[e])
-        for (size_t k = 0; k < r.relative.size(); ++k) {
-          const Index j = index_[slave_facets_.facets[e][k]];
-          if (j < 0) continue;
-          const std::vector<Index>& cn = out[j].nodes;
-          for (size_t a = 0; a < r.nodes.size(); ++a)
-            relative[j](std::find(cn.begin(), cn.end(), r.nodes[a]) - cn.begin()) += r.relative[k](static_cast<Index>(a));
-        }
+    const std::vector<VecX> relative = gather_relative(slave_facets_, index_, results, out);
     for (size_t j = 0; j < out.size(); ++j) {
       Constraint& c = out[j];
       if (c.kind == ConstraintKind::none) continue;
