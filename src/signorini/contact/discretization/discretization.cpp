@@ -547,7 +547,7 @@ class Mortar final : public DeformableMaster {
   std::string name() const override { return self_ ? "self_mortar" : "mortar"; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
-    if (self_) self_candidates(x, dmax, tracked);
+    if (self_) self_candidates(x, dmax);
     else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
   }
 
@@ -609,10 +609,11 @@ class Mortar final : public DeformableMaster {
   }
 
  private:
-  // Self-contact: per slave facet, the facets whose boxes, grown by dmax, meet its box, that face
-  // it and are not in its two-ring; a facet that finds none keeps its list while one of its
-  // nodes is tracked. Search: a uniform grid of the grown boxes.
-  void self_candidates(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) {
+  // Self-contact: the partner graph (the facets whose boxes, one grown by dmax, meet, that face
+  // each other and are outside each other's two-ring; a uniform grid of the grown boxes finds
+  // them), two-coloured into slave and master facets; a slave facet's candidates are its master
+  // partners. No node is tracked beyond d_max: a contact zone is within it.
+  void self_candidates(const std::vector<Vec3>& x, Real dmax) {
     const MasterSurface& sf = slave_facets_;
     const Index nf = sf.size();
     if (nf == 0) return;
@@ -691,7 +692,6 @@ class Mortar final : public DeformableMaster {
       for (Index f : near[e])
         if (color[f] == 1) candidates_[e].push_back(f);
     }
-    (void)tracked;  // a contact zone is within d_max: no tracking beyond it
   }
 
   bool self_;
