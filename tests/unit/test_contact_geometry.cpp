@@ -218,6 +218,70 @@ TEST_P(ContactGeometry, ParameterSecondVariationMatchesCentralDifferences) {
     EXPECT_LT((d2xi[b] - d2xi[b].transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << ": not symmetric";
 }
 
+// Segment-to-segment's ray projection along a slave normal tilted from the master's: the hit
+// lies on the ray, and the gap's gradient and Hessian with respect to [p, t, master nodes]
+// match central differences of fresh projections.
+TEST_P(ContactGeometry, RayGapVariationsMatchCentralDifferences) {
+  const GeoCase c = GetParam();
+  const int dim = c.dim, np = dim - 1;
+  auto [x, p, fp] = projected(c);
+  ASSERT_TRUE(fp.converged);
+  // The slave's outward normal points at the master, tilted by about 0.3 rad.
+  Vec3 u = fp.a[0].normalized();
+  const Vec3 target = (-fp.normal + 0.3 * u).normalized();
+  Vec3 t[2];
+  if (dim == 2) {
+    t[0] = 0.8 * Vec3(-target(1), target(0), 0);
+  } else {
+    t[0] = 0.7 * (u - u.dot(target) * target).normalized();
+    t[1] = 0.9 * target.cross(t[0]) + 0.3 * t[0];
+  }
+  ASSERT_LT((slave_normal(t, dim) - target).norm(), 1e-12);
+  RayProjection rp = project_along_normal(c.type, x, p, t, dim);
+  const std::string what = basis_name(c.type);
+  ASSERT_TRUE(rp.converged) << what;
+  EXPECT_TRUE(rp.inside) << what;
+  EXPECT_LT((rp.point - p - rp.gap * rp.normal).norm(), 1e-12) << what << ": the hit is not on the ray";
+  EXPECT_EQ(rp.gap > 0, c.height > 0) << what << ": sign of the gap";
+  EXPECT_LT(rp.facing, 0) << what;
+  VecX grad;
+  MatX hess;
+  ray_gap_variations(c.type, x, rp, t, dim, grad, hess);
+  const int n = static_cast<int>(grad.size());
+  ASSERT_EQ(n, dim * (1 + np + static_cast<int>(x.size())));
+  auto perturbed = [&](int k, Real h, std::vector<Vec3>& xx, Vec3& pp, Vec3* tt) {
+    xx = x;
+    pp = p;
+    tt[0] = t[0];
+    tt[1] = t[1];
+    const int group = k / dim, comp = k % dim;
+    if (group == 0) pp(comp) += h;
+    else if (group <= np) tt[group - 1](comp) += h;
+    else xx[group - 1 - np](comp) += h;
+  };
+  const Real h = 1e-6;
+  Real err_g = 0, err_h = 0;
+  for (int k = 0; k < n; ++k) {
+    std::vector<Vec3> xp, xm;
+    Vec3 pp, pm, tp[2], tm[2];
+    perturbed(k, h, xp, pp, tp);
+    perturbed(k, -h, xm, pm, tm);
+    const RayProjection rpp = project_along_normal(c.type, xp, pp, tp, dim);
+    const RayProjection rpm = project_along_normal(c.type, xm, pm, tm, dim);
+    ASSERT_TRUE(rpp.converged && rpm.converged) << what;
+    err_g = std::max(err_g, std::abs((rpp.gap - rpm.gap) / (2 * h) - grad(k)));
+    VecX gp, gm;
+    MatX tmp;
+    ray_gap_variations(c.type, xp, rpp, tp, dim, gp, tmp);
+    ray_gap_variations(c.type, xm, rpm, tm, dim, gm, tmp);
+    err_h = std::max(err_h, ((gp - gm) / (2 * h) - hess.col(k)).cwiseAbs().maxCoeff());
+  }
+  const Real scale = std::max(1.0, hess.cwiseAbs().maxCoeff());
+  EXPECT_LT(err_g, 1e-8) << what << ": ray gap gradient";
+  EXPECT_LT(err_h, 1e-6 * scale) << what << ": ray gap Hessian";
+  EXPECT_LT((hess - hess.transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale) << what << ": Hessian is not symmetric";
+}
+
 INSTANTIATE_TEST_SUITE_P(
     EveryFacet, ContactGeometry,
     ::testing::Values(GeoCase{ElementType::line2, 2, 0.2}, GeoCase{ElementType::line2, 2, -0.1},

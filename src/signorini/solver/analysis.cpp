@@ -564,17 +564,39 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   }
   Index big = 0;
   du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff(&big);
-  auto node_of = [&](Index dof) {
-    for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
-      for (int d = 0; d < dofs_.dofs_per_node(); ++d)
-        if (dofs_.has_dofs(nd) && dofs_.dof(nd, d) == dof) return nd;
-    return Index(-1);
-  };
-  const Index worst_node = node_of(worst), big_node = node_of(big);
-  log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (unknown {}, node {}), max |du| {:.3e} at node {}",
-            ref > 0 ? err / ref : err, worst, worst_node, du_max, big_node);
-  if (view_p.count(worst_node))
-    log::info("      at +h:{}\n      at -h:{}", view_p.at(worst_node), view_m.at(worst_node));
+  log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (at {}), max |du| {:.3e} (at {})",
+            ref > 0 ? err / ref : err, describe_unknown(worst), du_max, describe_unknown(big));
+  for (Index nd = 0; nd < dofs_.num_nodes() && worst < dofs_.num_dofs(); ++nd)
+    if (dofs_.has_dofs(nd) && worst >= dofs_.dof(nd, 0) && worst < dofs_.dof(nd, 0) + dofs_.dofs_per_node()) {
+      if (view_p.count(nd)) log::info("      at +h:{}\n      at -h:{}", view_p.at(nd), view_m.at(nd));
+      break;
+    }
+}
+
+std::string Analysis::describe_unknown(Index unknown) const {
+  if (unknown < 0) return "no unknown";
+  if (unknown >= dofs_.num_dofs()) return fmt::format("unknown {} (a contact multiplier or a rigid body's)", unknown);
+  static const char* kCartesian[] = {"u_x", "u_y", "u_z"};
+  static const char* kAxisymmetric[] = {"u_r", "u_z"};
+  const bool axisym = model_.settings.dimension == Dimension::axisymmetric;
+  for (Index nd = 0; nd < dofs_.num_nodes(); ++nd) {
+    if (!dofs_.has_dofs(nd)) continue;
+    const Index first = dofs_.dof(nd, 0);
+    if (unknown < first || unknown >= first + dofs_.dofs_per_node()) continue;
+    const auto comp = static_cast<size_t>(unknown - first);
+    const char* name = comp < 3 ? (axisym ? (comp < 2 ? kAxisymmetric[comp] : "?") : kCartesian[comp]) : "?";
+    if (dofs_.shared(nd)) return fmt::format("rigid body of mesh node {}, {}", model_.mesh.node_ids[nd], name);
+    return fmt::format("mesh node {}, {}", model_.mesh.node_ids[nd], name);
+  }
+  return fmt::format("unknown {}", unknown);
+}
+
+std::string Analysis::largest_residual(const VecX& r) const {
+  Index at = -1;
+  Real big = -1;
+  for (Index i = 0; i < r.size(); ++i)
+    if (!(i < static_cast<Index>(constrained_.size()) && constrained_[i]) && std::abs(r(i)) > big) big = std::abs(r(i)), at = i;
+  return at < 0 ? std::string() : fmt::format("largest residual {:.3e} at {}", big, describe_unknown(at));
 }
 
 void Analysis::predict(Real dl) {
@@ -880,8 +902,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         return false;
       }
     }
-    why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", ns.max_iterations,
-                      rec.residuals.back());
+    why = fmt::format("no convergence in {} iterations (relative residual {:.3e}; {})", ns.max_iterations,
+                      rec.residuals.back(), largest_residual(R));
     return false;
   } catch (const FatalModelError&) {
     throw;

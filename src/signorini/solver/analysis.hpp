@@ -181,6 +181,10 @@ class Analysis {
   // step du from u0 against central differences of the residual, logged.
   std::map<Index, std::string> contact_view() const;
   void check_tangent(Real lambda, const VecX& u0, const VecX& du, Real du_max);
+  // An unknown in the user's words: "mesh node 812, u_x", or what else it is.
+  std::string describe_unknown(Index unknown) const;
+  // Where the largest free entry of the residual r sits, for a failed increment's message.
+  std::string largest_residual(const VecX& r) const;
 
   Model& model_;
   DofMap dofs_;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "signorini/contact/geometry/hyper_dual.hpp"
 #include "signorini/fem/shape.hpp"
 
 namespace signorini {
@@ -341,6 +342,150 @@ void parameter_variations(const FacetBasis& facet, const std::vector<Vec3>& x, c
   d2xi.assign(np, MatX::Zero(n, n));
   for (int b = 0; b < np; ++b)
     for (int a = 0; a < np; ++a) d2xi[b] += Minv(b, a) * rhs[a];
+}
+
+namespace {
+
+// The slave normal n(t) on hyper-dual numbers: inputs t_1 (0..2) and t_2 (3..5); value,
+// gradient and Hessian of each component.
+using NormalHD = HyperDual<6>;
+std::array<NormalHD, 3> normal_hd(const Vec3* t, int dim) {
+  std::array<NormalHD, 3> n;
+  if (dim == 2) {
+    const NormalHD tx = NormalHD::input(t[0](0), 0), ty = NormalHD::input(t[0](1), 1);
+    const NormalHD len = sqrt(tx * tx + ty * ty);
+    n = {ty / len, -tx / len, NormalHD(0.0)};
+    return n;
+  }
+  NormalHD a[3], b[3];
+  for (int d = 0; d < 3; ++d) a[d] = NormalHD::input(t[0](d), d), b[d] = NormalHD::input(t[1](d), 3 + d);
+  const NormalHD c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  const NormalHD len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  for (int d = 0; d < 3; ++d) n[d] = c[d] / len;
+  return n;
+}
+
+}  // namespace
+
+Vec3 slave_normal(const Vec3* t, int dim) {
+  if (dim == 2) return Vec3(t[0](1), -t[0](0), 0).normalized();
+  return t[0].cross(t[1]).normalized();
+}
+
+RayProjection project_along_normal(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& p, const Vec3* t,
+                                   int dim, Real inside_tolerance) {
+  RayProjection rp;
+  rp.normal = slave_normal(t, dim);
+  const int np = dim - 1;
+  rp.xi = facet.simplex() ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Zero();
+  VecX N;
+  MatX dN;
+  Real scale = 0;
+  for (size_t i = 1; i < x.size(); ++i) scale = std::max(scale, (x[i] - x[0]).norm());
+  bool first = true;
+  // Newton on F(xi, g) = x(xi) - p - g n = 0 with Jacobian [a_1, (a_2), -n].
+  for (int it = 0; it < 30; ++it) {
+    facet.eval(rp.xi, N, dN);
+    Vec3 xm = Vec3::Zero(), a[2] = {Vec3::Zero(), Vec3::Zero()};
+    for (size_t i = 0; i < x.size(); ++i) {
+      xm += N(i) * x[i];
+      for (int al = 0; al < np; ++al) a[al] += dN(i, al) * x[i];
+    }
+    if (first) rp.gap = (xm - p).dot(rp.normal), first = false;
+    const Vec3 F = xm - p - rp.gap * rp.normal;
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    for (int d = 0; d < dim; ++d) {
+      for (int al = 0; al < np; ++al) A(d, al) = a[al](d);
+      A(d, np) = -rp.normal(d);
+    }
+    const Eigen::MatrixXd As = A.topLeftCorner(dim, dim);
+    const Eigen::VectorXd dz = As.partialPivLu().solve(Eigen::VectorXd(-F.head(dim)));
+    if (!dz.allFinite() || rp.xi.cwiseAbs().maxCoeff() > 1e3) break;
+    for (int al = 0; al < np; ++al) rp.xi(al) += dz(al);
+    rp.gap += dz(np);
+    if (dz.head(np).norm() < 1e-12 && std::abs(dz(np)) < 1e-12 * (scale + std::abs(rp.gap))) {
+      facet.eval(rp.xi, N, dN);
+      rp.point.setZero();
+      for (int al = 0; al < np; ++al) a[al].setZero();
+      for (size_t i = 0; i < x.size(); ++i) {
+        rp.point += N(i) * x[i];
+        for (int al = 0; al < np; ++al) a[al] += dN(i, al) * x[i];
+      }
+      rp.facing = normal_from_basis(a, np).dot(rp.normal);
+      rp.converged = true;
+      break;
+    }
+  }
+  rp.inside = rp.converged && inside_reference(facet, rp.xi, inside_tolerance);
+  return rp;
+}
+
+void ray_gap_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const RayProjection& rp, const Vec3* t,
+                        int dim, VecX& grad, MatX& hess) {
+  // Local unknowns v = [p, t_1, (t_2), x_1..x_N]. With z = (xi, g), F_z = A = [a_1, (a_2), -n],
+  // w^T A = e_g^T (w = -m / (m . n), m the master's normal):
+  //   dz = -A^-1 F_v dv:  dg = w on p, g w . dn/dt on t, -N_i w on x_i;
+  //   d xi_a likewise with row a of A^-1;
+  //   d2g = -w . [x_,ab dxi_a dxi_b + dxi_a da_a + da_a dxi_a - dg dn - dn dg - g d2n]
+  // (da_a on x_i: N_i,a; the other second derivatives of F vanish).
+  const int np = dim - 1, nn = facet.num_nodes(), nv = dim * (1 + np + nn);
+  const int t0 = dim, x0 = dim * (1 + np);  // first local index of t and of the facet's nodes
+  VecX N;
+  MatX dN;
+  facet.eval(rp.xi, N, dN);
+  Vec3 a[2] = {Vec3::Zero(), Vec3::Zero()};
+  for (int i = 0; i < nn; ++i)
+    for (int al = 0; al < np; ++al) a[al] += dN(i, al) * x[i];
+  Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+  for (int d = 0; d < dim; ++d) {
+    for (int al = 0; al < np; ++al) A(d, al) = a[al](d);
+    A(d, np) = -rp.normal(d);
+  }
+  const Eigen::MatrixXd Binv = Eigen::MatrixXd(A.topLeftCorner(dim, dim)).inverse();
+  const std::array<NormalHD, 3> n = normal_hd(t, dim);
+  auto t_input = [&](int al, int d) { return al * 3 + d; };  // local t entry -> hyper-dual input
+  // dz_k for each k (rows of -A^-1 F_v).
+  std::vector<VecX> dz(dim, VecX::Zero(nv));
+  for (int k = 0; k < dim; ++k) {
+    for (int d = 0; d < dim; ++d) {
+      dz[k](d) = Binv(k, d);
+      for (int i = 0; i < nn; ++i) dz[k](x0 + i * dim + d) = -N(i) * Binv(k, d);
+    }
+    for (int al = 0; al < np; ++al)
+      for (int d = 0; d < dim; ++d) {
+        Real s = 0;
+        for (int e = 0; e < dim; ++e) s += Binv(k, e) * n[e].g(t_input(al, d));
+        dz[k](t0 + al * dim + d) = rp.gap * s;
+      }
+  }
+  grad = dz[np];
+  const VecX& dg = dz[np];
+  // w = last row of A^-1.
+  Vec3 w = Vec3::Zero();
+  for (int d = 0; d < dim; ++d) w(d) = Binv(np, d);
+  std::vector<Mat2> d2;
+  second_derivatives(facet, rp.xi, np, d2);
+  Mat2 wx = Mat2::Zero();  // w . x_,ab
+  for (int i = 0; i < nn; ++i) wx += w.dot(x[i]) * d2[i];
+  VecX Wn = VecX::Zero(nv);
+  MatX Wnn = MatX::Zero(nv, nv);
+  for (int al = 0; al < np; ++al)
+    for (int d = 0; d < dim; ++d) {
+      for (int e = 0; e < dim; ++e) Wn(t0 + al * dim + d) += w(e) * n[e].g(t_input(al, d));
+      for (int be = 0; be < np; ++be)
+        for (int f = 0; f < dim; ++f)
+          for (int e = 0; e < dim; ++e)
+            Wnn(t0 + al * dim + d, t0 + be * dim + f) += w(e) * n[e].h(t_input(al, d), t_input(be, f));
+    }
+  hess = rp.gap * Wnn;
+  hess.noalias() += dg * Wn.transpose() + Wn * dg.transpose();
+  for (int al = 0; al < np; ++al) {
+    VecX Wa = VecX::Zero(nv);
+    for (int i = 0; i < nn; ++i)
+      for (int d = 0; d < dim; ++d) Wa(x0 + i * dim + d) = dN(i, al) * w(d);
+    hess.noalias() -= dz[al] * Wa.transpose() + Wa * dz[al].transpose();
+    for (int be = 0; be < np; ++be) hess.noalias() -= wx(al, be) * dz[al] * dz[be].transpose();
+  }
 }
 
 PointGap point_gap(const Vec3& slave, const Vec3& vertex, const Vec3& reference_normal, int dim, VecX* grad,
