@@ -59,7 +59,6 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
     M += Ntq * Ntq.transpose() * da;
     D += Ntq * da;
     f.N.push_back(N);
-    f.dN.push_back(dN);
     f.Nt.push_back(Ntq);
     f.weight.push_back(da);
   }
@@ -88,8 +87,7 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
   // First the projections (which master nodes are involved), then the sums.
   struct PointHit {
     Index facet = -1;
-    RayProjection rp;
-    Vec3 t[2];  // the slave facet's covariant basis at the point
+    FacetProjection fp;
     std::vector<Vec3> xf;
   };
   std::vector<PointHit> hits(f.N.size());
@@ -105,14 +103,9 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
     for (const Vec3& y : cx[k]) lo[k] = lo[k].cwiseMin(y), hi[k] = hi[k].cwiseMax(y);
   }
   std::vector<std::pair<Real, size_t>> order(nc);
-  const int np = dim - 1;
   for (size_t q = 0; q < f.N.size(); ++q) {
-    Vec3 p = Vec3::Zero(), t[2] = {Vec3::Zero(), Vec3::Zero()};
-    for (int i = 0; i < ns; ++i) {
-      p += f.N[q](i) * x[f.nodes[i]];
-      for (int a = 0; a < np; ++a) t[a] += f.dN[q](i, a) * x[f.nodes[i]];
-    }
-    // The ray's hit is at least as far as the facet's box.
+    Vec3 p = Vec3::Zero();
+    for (int i = 0; i < ns; ++i) p += f.N[q](i) * x[f.nodes[i]];
     for (size_t k = 0; k < nc; ++k) {
       const Vec3 d = (lo[k] - p).cwiseMax(p - hi[k]).cwiseMax(Vec3::Zero());
       order[k] = {d.norm(), k};
@@ -124,17 +117,14 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
       if (best_strict && box_distance > best) break;
       const Index m = candidates[k];
       const FacetBasis basis = master.basis(m);
-      RayProjection rp = project_along_normal(basis, cx[k], p, t, dim, kEdgeTolerance);
-      // A facet seen from behind (its normal along the slave's) is no partner.
-      if (!rp.inside || !(rp.facing < 0)) continue;
-      const bool strict = inside_reference(basis, rp.xi, 1e-9);
-      if ((strict && !best_strict) || (strict == best_strict && std::abs(rp.gap) < best)) {
-        best = std::abs(rp.gap);
+      FacetProjection fp = project_on_facet(basis, cx[k], p, dim, kEdgeTolerance);
+      if (!fp.inside) continue;
+      const bool strict = inside_reference(basis, fp.xi, 1e-9);
+      if ((strict && !best_strict) || (strict == best_strict && std::abs(fp.gap) < best)) {
+        best = std::abs(fp.gap);
         best_strict = strict;
         hits[q].facet = m;
-        hits[q].rp = rp;
-        hits[q].t[0] = t[0];
-        hits[q].t[1] = t[1];
+        hits[q].fp = fp;
         hits[q].xf = cx[k];
       }
     }
@@ -157,41 +147,34 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
   for (size_t q = 0; q < hits.size(); ++q) {
     const PointHit& h = hits[q];
     if (h.facet < 0) continue;
-    ray_gap_variations(master.basis(h.facet), h.xf, h.rp, h.t, dim, g, H);
-    // Local DOFs of ray_gap_variations: [x_p, a_1, (a_2), master nodes], with x_p and a_alpha
-    // linear in the slave facet's nodes: coefficient c[k](i) of slave node i in group k.
+    gap_variations(master.basis(h.facet), h.xf, h.fp, dim, g, H);
+    // Local DOFs of gap_variations: [x_p, master nodes]; x_p = sum_i N_i x_i.
     at.clear();
     for (Index nd : master.basis_nodes(h.facet)) at.push_back(column(nd));
-    const int nm = static_cast<int>(at.size()), groups = 1 + np;
-    const VecX& N = f.N[q];
-    auto c = [&](int k, int i) { return k == 0 ? N(i) : f.dN[q](i, k - 1); };
+    const int nm = static_cast<int>(at.size());
+    // The point's gradient and Hessian over `out.nodes`, then weighted per slave node.
     VecX gq = VecX::Zero(nn);
     MatX Hq = MatX::Zero(nn, nn);
-    for (int i = 0; i < ns; ++i)
-      for (int k = 0; k < groups; ++k) gq.segment(i * dim, dim) += c(k, i) * g.segment(k * dim, dim);
-    for (int a = 0; a < nm; ++a) gq.segment(at[a] * dim, dim) += g.segment((groups + a) * dim, dim);
-    for (int k = 0; k < groups; ++k)
-      for (int l = 0; l < groups; ++l) {
-        const MatX Hkl = H.block(k * dim, l * dim, dim, dim);
-        for (int i = 0; i < ns; ++i)
-          for (int j = 0; j < ns; ++j) Hq.block(i * dim, j * dim, dim, dim) += c(k, i) * c(l, j) * Hkl;
-      }
-    for (int k = 0; k < groups; ++k)
+    const VecX& N = f.N[q];
+    for (int i = 0; i < ns; ++i) gq.segment(i * dim, dim) += N(i) * g.head(dim);
+    for (int a = 0; a < nm; ++a) gq.segment(at[a] * dim, dim) += g.segment((a + 1) * dim, dim);
+    const MatX Hpp = H.topLeftCorner(dim, dim);
+    for (int i = 0; i < ns; ++i) {
+      for (int k = 0; k < ns; ++k) Hq.block(i * dim, k * dim, dim, dim) += N(i) * N(k) * Hpp;
       for (int a = 0; a < nm; ++a) {
-        const MatX Hka = H.block(k * dim, (groups + a) * dim, dim, dim);
-        for (int i = 0; i < ns; ++i) {
-          Hq.block(i * dim, at[a] * dim, dim, dim) += c(k, i) * Hka;
-          Hq.block(at[a] * dim, i * dim, dim, dim) += c(k, i) * Hka.transpose();
-        }
+        const MatX Hpm = H.block(0, (a + 1) * dim, dim, dim);
+        Hq.block(i * dim, at[a] * dim, dim, dim) += N(i) * Hpm;
+        Hq.block(at[a] * dim, i * dim, dim, dim) += N(i) * Hpm.transpose();
       }
+    }
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b)
-        Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((groups + a) * dim, (groups + b) * dim, dim, dim);
-    master.basis(h.facet).eval(h.rp.xi, Nm, dNm);
+        Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((a + 1) * dim, (b + 1) * dim, dim, dim);
+    master.basis(h.facet).eval(h.fp.xi, Nm, dNm);
     for (int j = 0; j < ns; ++j) {
       const Real wr = f.Nt[q](j) * f.weight[q];
       const Real w = f.phi[q](j) * f.weight[q];
-      out.gap[j] += w * h.rp.gap;
+      out.gap[j] += w * h.fp.gap;
       out.grad[j] += w * gq;
       out.hess[j] += w * Hq;
       for (int i = 0; i < ns; ++i) out.relative[j](i) += wr * N(i);

@@ -1,24 +1,16 @@
 // Segment-to-segment contact by integration points (2D and 3D, every facet type): the Gauss
-// points of each slave facet are projected onto the master surface along the slave facet's
-// outward normal at the point (contact/geometry/facet_projection: project_along_normal), and
-// their gaps are gathered into one weighted gap per slave node with the dual shape functions of
-// the facet (Wohlmuth 2000), built on the modified basis of Popp, Wohlmuth, Gee & Wall (2012)
-// for tri6 and quad8 so that every node's weight is positive:
+// points of each slave facet are projected onto the master surface (the closest-point
+// projection of node-to-segment, contact/geometry/facet_projection), and their gaps are
+// gathered into one weighted gap per slave node with the dual shape functions of the facet
+// (Wohlmuth 2000), built on the modified basis of Popp, Wohlmuth, Gee & Wall (2012) for tri6
+// and quad8 so that every node's weight is positive:
 //   g~_j = sum_e sum_q Phi_j(xi_q) g(x_s(xi_q)) w_q J0_q,   w_j = sum_e int_e N~_j dA0,
 // with the integration weights and the dual coefficients in the reference configuration
 // (the mortar integrals evaluated at the integration points, "element-based integration" in
 // Popp's terms, instead of on segments). The constraint is g~_j / w_j, so enforcement's force
 // p w_j grad(g~_j / w_j) = p grad g~_j is the virtual work of the nodal pressure p_j
-// interpolated with the dual basis. Its variations are the ray gap's at each point (exact,
-// from ray_gap_variations, with respect to the point, the slave facet's covariant basis there
-// and the master facet's nodes) carried to the slave facet's nodes by x_s = sum_i N_i(xi_q) x_i
-// and a_alpha = sum_i N_i,alpha(xi_q) x_i.
-// Why the slave normal and not the closest point on the master: the closest point's force
-// acts along the master's normal, which jumps where an integration point crosses from one
-// master facet to the next (curved quadratic facets, or any faceted surface once it deforms).
-// The residual then jumps too, and Newton stalled in a two-state cycle at |R|/F ~ 1e-5 on the
-// tet10 Hertz deck of the CalculiX harness, cutting the increment back without end. Along the
-// slave normal the hit point and the force direction are continuous across master edges.
+// interpolated with the dual basis. Its variations are the gap's at each point (exact, from
+// gap_variations) carried to the slave facet's nodes by x_s = sum_i N_i(xi_q) x_i.
 #pragma once
 #include <vector>
 
@@ -32,7 +24,6 @@ struct IntegrationFacet {
   ElementType type = ElementType::line2;
   std::vector<Index> nodes;
   std::vector<VecX> N;      // per point: the facet's shape functions (geometry)
-  std::vector<MatX> dN;     // per point: their parameter derivatives (the covariant basis)
   std::vector<VecX> phi;    // per point: the dual shape functions
   std::vector<VecX> Nt;     // per point: the modified basis N~ (friction's averaging weights)
   std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)

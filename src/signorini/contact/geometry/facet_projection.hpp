@@ -109,34 +109,6 @@ void gap_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const F
 void parameter_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const FacetProjection& fp, int dim,
                           MatX& dxi, std::vector<MatX>& d2xi);
 
-// Projection of a slave point p along the slave surface's outward unit normal n onto a master
-// facet (segment-to-segment): the ray x(xi) = p + g n, solved by Newton in (xi, g). n is the
-// normal of the slave facet at the point from its covariant basis t (dim - 1 vectors),
-// n = t_1 x t_2 / |t_1 x t_2| (3D) or (t_y, -t_x) / |t| (2D), so the gap g > 0 is open and
-// the contact force acts along n. Unlike the closest-point projection, whose force follows the
-// master's normal and jumps where a point crosses from one curved (or kinked) master facet to
-// the next, the ray's hit point and force direction are continuous across master edges: the
-// residual is continuous, and Newton does not stall at a kink (the projection Popp et al. 2010
-// use for mortar, here per integration point).
-struct RayProjection {
-  Vec3 xi = Vec3::Zero();      // master facet parameters of the hit point
-  Vec3 point = Vec3::Zero();   // x(xi)
-  Vec3 normal = Vec3::Zero();  // the slave's unit normal n
-  Real gap = 0;                // x(xi) = p + gap n
-  Real facing = 0;             // m . n, m the master's normal at the hit (< 0: the facets face each other)
-  bool converged = false;
-  bool inside = false;         // xi in the reference facet (with tolerance)
-};
-// The slave's outward unit normal from its covariant basis t (t[0], and t[1] in 3D).
-Vec3 slave_normal(const Vec3* t, int dim);
-RayProjection project_along_normal(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& p, const Vec3* t,
-                                   int dim, Real inside_tolerance = 1e-9);
-// Gradient and Hessian of the ray's gap with respect to [p, t_1, (t_2), x_1, ..., x_N] (dim
-// components each) at a converged projection. Derivation in docs/contact.md: the implicit
-// function theorem applied twice to F(xi, g) = x(xi) - p - g n(t) = 0.
-void ray_gap_variations(const FacetBasis& facet, const std::vector<Vec3>& x, const RayProjection& rp, const Vec3* t,
-                        int dim, VecX& grad, MatX& hess);
-
 // Node-to-vertex: gap s |x_s - x_v| with s = sign((x_s - x_v) . n_ref) for a reference
 // normal n_ref (the average normal of the facets at the vertex); gradient and Hessian with
 // respect to [x_s, x_v].
