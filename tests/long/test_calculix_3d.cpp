@@ -7,13 +7,15 @@ using signorini::test::compare;
 namespace fs = std::filesystem;
 
 // The load against CalculiX's on this deck and mesh (the harness's results/sbs.md, row
-// h3d_coarse_s2s: P = 2322.5 N), within 0.2 %. The peak nodal pressure is not compared with
-// Hertz here: segment_to_segment's nodal pressures on tet10 facets at a/h = 5 swing between
-// corner and mid-side nodes (measured +65 % at the peak; issue 14, docs/contact.md).
+// h3d_coarse_s2s: P = 2322.5 N), within 0.2 %, and the peak nodal pressure against Hertz's p0
+// within 2 % (a/h = 5; measured -0.75 %, CalculiX -0.22 %). The written pressure is the
+// multiplier (docs/contact.md, segment_to_segment): as the node's force per weight it read
+// +65 %, 0 at the tri6 corners and about 1.6 p0 at the mid-side nodes.
 TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurface) {
   const auto c = compare("h3d", "hertz3d_coarse_c3d10.inp", true,
                          "discretization: segment_to_segment, enforcement: {method: penalty, penalty: 1e8}");
   EXPECT_NEAR(c.load, 2322.5, 2e-3 * 2322.5);
+  EXPECT_LT(std::abs(c.peak_error), 0.02);
 }
 
 // The same deck with Lagrange multipliers (PRESSURE-OVERCLOSURE=HARD's method). An integration
@@ -22,7 +24,7 @@ TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurface) {
 // 3837, u_x, about 1e-5 of the force scale) and Newton cycled between the two sides: every
 // attempt to reach the full load failed at 25 iterations and was cut back, the increments
 // halving towards the end (11 cutbacks, 590 s, stopped by hand). Newton now accepts the
-// stagnated state within 1e3 times the tolerance and says so: one increment, about 20 s.
+// stagnated state (within 1e-4 of the force scale) and says so: one increment, about 20 s.
 TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurfaceLagrangeFinishesInOneIncrement) {
   log::set_level(log::Level::warning);
   const fs::path yaml = fs::temp_directory_path() / ("signorini_calculix_h3d_lagrange_" + std::to_string(::getpid()) + ".yaml");
@@ -38,11 +40,20 @@ TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurfaceLagrangeFinishesInOneIncremen
   const IncrementRecord& inc = s.increments[0];
   EXPECT_EQ(inc.cutbacks, 0);
   EXPECT_LE(inc.iterations, 12);
-  if (inc.stagnated) EXPECT_LE(inc.stagnated_residual, 1e3 * m.newton.residual_tolerance);
+  if (inc.stagnated) EXPECT_LE(inc.stagnated_residual, 1e-4);
   // The load CalculiX computes on this deck (results/sbs.md, h3d_coarse_s2s: 2322.5 N) within
   // 0.3 %: penalty K = 1e8 there, exact non-penetration here (measured +0.13 %).
   const Real P = 4 * std::abs(a.reaction_sum("NTOP")(2));
   EXPECT_NEAR(P, 2322.5, 3e-3 * 2322.5);
-  std::printf("tet10 Lagrange: P %.6g, %d iterations, stagnated %d (|R|/F %.3e)\n", P, inc.iterations,
-              static_cast<int>(inc.stagnated), inc.stagnated_residual);
+  // The peak nodal pressure against Hertz's p0 for this load (Johnson 1985, eq. 3.39-3.41):
+  // within 2 % (measured -0.64 %).
+  Real peak = 0;
+  for (const auto& c : a.contacts())
+    for (const auto& ns : c->slave_states()) peak = std::max(peak, ns.pressure);
+  const Real radius = std::cbrt(3 * P * 8.0 / (4 * signorini::test::kEstar));
+  const Real p0 = 3 * P / (2 * M_PI * radius * radius);
+  EXPECT_NEAR(peak, p0, 0.02 * p0);
+  std::printf("tet10 Lagrange: P %.6g, peak %.6g against Hertz p0 %.6g (%+.3f %%), %d iterations, stagnated %d (|R|/F "
+              "%.3e)\n",
+              P, peak, p0, 100 * (peak / p0 - 1), inc.iterations, static_cast<int>(inc.stagnated), inc.stagnated_residual);
 }

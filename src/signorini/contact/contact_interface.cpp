@@ -392,8 +392,10 @@ void ContactInterface::set_reported_pressure(const std::vector<Vec3>& nodal_forc
   pressure_reported_ = true;
   for (size_t j = 0; j < constraints_.size(); ++j) {
     const Constraint& c = constraints_[j];
-    nodes_[j].reported_pressure =
-        c.kind == ConstraintKind::none || c.weight <= 0 ? 0.0 : nodal_force[c.slave].dot(c.normal) / c.weight;
+    if (c.kind == ConstraintKind::none || c.weight <= 0) nodes_[j].reported_pressure = 0;
+    else if (discretization_->pressure_is_multiplier())
+      nodes_[j].reported_pressure = j < state_.pressure.size() ? state_.pressure[j] : 0.0;
+    else nodes_[j].reported_pressure = nodal_force[c.slave].dot(c.normal) / c.weight;
   }
 }
 

@@ -882,19 +882,24 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       }
       if (it == st.cycle_start) st.energy0 = energy;
       const bool energy_ok = it > st.cycle_start && energy <= ns.energy_tolerance * st.energy0;
-      // The bound beside the tolerance: 1e3 times it, for the energy criterion and stagnation.
-      const bool within_bound =
-          !lift_pending_ && st.rnorm <= 1e3 * std::max(ns.residual_tolerance * st.scale, ns.absolute_tolerance);
-      // Stagnation: the last three residuals of this cycle within 1 % of each other, the steps
-      // 1e-6 of the first. Newton then cycles between states on either side of a jump of the
-      // residual, e.g. an integration point (segment-to-segment) or a slave node
-      // (node-to-segment) on the edge between two master facets, where the contact force
-      // follows each facet's own normal: the force jumps by about (the point's force) x (the
-      // angle between the normals). No state there meets the tolerance; one within the bound
+      // The bound beside the tolerance: 1e3 times it, for the energy criterion.
+      const Real bound = 1e3 * std::max(ns.residual_tolerance * st.scale, ns.absolute_tolerance);
+      const bool within_bound = !lift_pending_ && st.rnorm <= bound;
+      // Stagnation's bound: the same, and at least 1e-4 of the force scale. A jump of the
+      // residual is a property of the discretization, not of the tolerance asked for, and it
+      // grows with the load (the angle between neighbouring master facets grows as they
+      // deform): Taylor's 2D patch test with segment_to_segment stagnates at 8e-6 at 30 % of
+      // its load, 2.7e-5 at the full load.
+      const bool within_stagnation_bound = !lift_pending_ && st.rnorm <= std::max(bound, 1e-4 * st.scale);
+      // Stagnation: the last three residuals of this cycle within 1 % of each other. Newton then
+      // cycles between states on either side of a jump of the residual, e.g. an integration
+      // point (segment-to-segment) or a slave node (node-to-segment) on the edge between two
+      // master facets, where the contact force follows each facet's own normal: the force jumps
+      // by about (the point's force) x (the angle between the normals). No state there meets the tolerance; one within the bound
       // is the solution to that accuracy, accepted and reported (summary.json: "stagnated").
       const size_t nres = rec.residuals.size();
       bool stagnated = false;
-      if (within_bound && it - st.cycle_start >= 2 && nres >= 3 && energy <= 1e-6 * st.energy0) {
+      if (within_stagnation_bound && it - st.cycle_start >= 2 && nres >= 3) {
         const Real r0 = rec.residuals[nres - 1], r1 = rec.residuals[nres - 2], r2 = rec.residuals[nres - 3];
         stagnated = std::max({r0, r1, r2}) <= 1.01 * std::min({r0, r1, r2});
       }
@@ -902,8 +907,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       if (stagnated && !converged) {
         rec.stagnated = true;
         rec.stagnated_residual = rel;
-        log::warning("Newton stagnates at |R|/F = {:.3e} ({}): a jump of the residual, accepted within 1e3 times the "
-                  "tolerance {:.1e}",
+        log::warning("Newton stagnates at |R|/F = {:.3e} ({}) above the tolerance {:.1e}: a jump of the residual, "
+                  "accepted",
                   rel, largest_residual(R), ns.residual_tolerance);
       }
       if (converged || stagnated) {

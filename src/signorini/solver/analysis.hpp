@@ -45,7 +45,7 @@ struct IncrementRecord {
   // Stabilization (solver.stabilization): |f_v| at convergence, relative to the largest of
   // |f_int| and |f_ext|.
   Real stabilization_ratio = 0;
-  // Accepted on stagnation: Newton cycled at a residual within 1e3 times the tolerance that it
+  // Accepted on stagnation: Newton cycled at a residual within 1e-4 of the force scale that it
   // could not reduce (a jump of the residual; analysis.cpp, solve_increment).
   bool stagnated = false;
   Real stagnated_residual = 0;  // the relative residual accepted

@@ -721,6 +721,7 @@ class SegmentToSegment final : public DeformableMaster {
                                                     as.dimension == Dimension::axisymmetric, as.thickness));
   }
   std::string name() const override { return "segment_to_segment"; }
+  bool pressure_is_multiplier() const override { return true; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
     facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);

@@ -47,6 +47,15 @@ class Discretization {
   // One constraint per slave node at positions x and unknowns z: kind, gap, normal, grad,
   // hess, normal_jacobian and master_weights (open constraints beyond dmax).
   virtual void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const = 0;
+  // Whether enforcement's nodal pressure p_j is the pressure to report at slave node j:
+  // segment_to_segment, whose p_j is the coefficient of the dual basis in the traction per
+  // reference area, p_j = int N~_j t dA0 / int N~_j dA0, a positive-weighted average of the
+  // traction. The others report the contact force on the node per its reference weight (the
+  // sum of both passes of a two-pass pair; for mortar, whose multiplier is per current area, the
+  // load per reference area). The two agree on linear facets; on tri6 and quad8 facets the
+  // force per weight follows the consistent-load pattern (a uniform pressure p puts no force
+  // on a tri6 corner and read 0 there, 5/3 p at the mid-side nodes).
+  virtual bool pressure_is_multiplier() const { return false; }
   // The slip origin of a constrained node: the master point of c, the slave at x_s.
   virtual SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const;
   // Friction kinematics of c from its origin: d = x_s - x_0 and D = dd/dz (Constraint::slip,

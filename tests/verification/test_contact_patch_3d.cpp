@@ -1,0 +1,175 @@
+// Taylor's contact patch test in 3D (Taylor & Papadopoulos 1991; VALIDATION.md sec. 2) for the
+// integral discretization segment_to_segment with linear and quadratic facets: a punch
+// [1, 3]^2 x [2, 4] (2 x 2 x 2 cells: matching, or 3 x 3 x 2: non-matching) on a foundation
+// [0, 4]^2 x [0, 2] (4 x 4 x 2 cells, so that the punch covers whole foundation facets),
+// E = 1000, nu = 0.4,
+// frictionless, a uniform pressure p = 10 on the punch top and on the uncovered foundation
+// top. The exact state is uniform: sigma_zz = -10 everywhere, u_x = nu p / E x and
+// u_y = nu p / E y in both bodies (no relative sliding), and a contact pressure of 10 at every
+// slave node, corner and mid-side alike.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "common.hpp"
+#include "signorini/core/log.hpp"
+#include "signorini/solver/analysis.hpp"
+
+using namespace signorini;
+
+namespace {
+
+struct Patch3dCase {
+  ElementType punch, foundation;
+  int punch_cells;     // 2: the punch's nodes above the foundation's (spacing 1); 3: non-matching
+  const char* method;
+  Real tolerance;      // on the pressure and the stress, relative to p
+};
+
+std::string case_name(const ::testing::TestParamInfo<Patch3dCase>& i) {
+  return element_info(i.param.punch).name + "_on_" + element_info(i.param.foundation).name + "_" +
+         (i.param.punch_cells == 2 ? "matching_" : "nonmatching_") + i.param.method;
+}
+
+// Facets of `set` whose nodes all lie inside (or all outside) the square [1, 3]^2.
+std::vector<ElementBlock> facets_in_footprint(const Mesh& m, const std::string& set, bool inside) {
+  std::vector<ElementBlock> out;
+  for (const ElementBlock& b : m.facet_sets.at(set)) {
+    ElementBlock nb{b.type, {}, {}};
+    for (Index e = 0; e < b.size(); ++e) {
+      bool all_in = true, all_out = true;
+      for (int k = 0; k < b.nodes_per_element(); ++k) {
+        const Vec3& x = m.nodes[b.element(e)[k]];
+        const bool in = x(0) > 1 - 1e-9 && x(0) < 3 + 1e-9 && x(1) > 1 - 1e-9 && x(1) < 3 + 1e-9;
+        const bool strictly_in = x(0) > 1 + 1e-9 && x(0) < 3 - 1e-9 && x(1) > 1 + 1e-9 && x(1) < 3 - 1e-9;
+        all_in = all_in && in;
+        all_out = all_out && !strictly_in;
+      }
+      if (inside ? all_in : (all_out && !all_in))
+        nb.add(std::vector<Index>(b.element(e), b.element(e) + b.nodes_per_element()), b.ids[e]);
+    }
+    if (nb.size()) out.push_back(nb);
+  }
+  return out;
+}
+
+}  // namespace
+
+class ContactPatch3d : public ::testing::TestWithParam<Patch3dCase> {};
+
+TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
+  const Patch3dCase c = GetParam();
+  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
+  const Real E = 1000, nu = 0.4, p = 10, exx = nu * p / E;
+  const int nf = 4, npc = c.punch_cells;
+  Mesh f = structured_box(c.foundation, nf, nf, 2, 4, 4, 2);
+  StructuredOptions o;
+  o.origin = Vec3(1, 1, 2);
+  Mesh q = structured_box(c.punch, npc, npc, 2, 2, 2, 2, o);
+  Mesh m;
+  m.dim = 3;
+  m.nodes = f.nodes;
+  m.nodes.insert(m.nodes.end(), q.nodes.begin(), q.nodes.end());
+  for (Index i = 0; i < m.num_nodes(); ++i) m.node_ids.push_back(i + 1);
+  const Index shift = f.num_nodes();
+  auto shifted = [&](std::vector<ElementBlock> v) {
+    for (auto& b : v)
+      for (auto& k : b.conn) k += shift;
+    return v;
+  };
+  auto node_at = [&](const Mesh& mesh, const Vec3& x) {
+    for (Index i = 0; i < mesh.num_nodes(); ++i)
+      if ((mesh.nodes[i] - x).norm() < 1e-9) return i;
+    ADD_FAILURE() << "no node at " << x.transpose();
+    return Index(0);
+  };
+  m.regions["foundation"] = f.regions["domain"];
+  m.regions["punch"] = shifted(q.regions["domain"]);
+  m.facet_sets["foundation_top"] = facets_in_footprint(f, "zmax", true);
+  m.facet_sets["foundation_free"] = facets_in_footprint(f, "zmax", false);
+  m.facet_sets["punch_bottom"] = shifted(q.facet_sets["zmin"]);
+  m.facet_sets["punch_top"] = shifted(q.facet_sets["zmax"]);
+  m.node_sets["foundation_bottom"] = f.node_sets["zmin"];
+  m.node_sets["origin"] = {node_at(f, Vec3(0, 0, 0))};
+  m.node_sets["x_axis"] = {node_at(f, Vec3(4, 0, 0))};
+  m.node_sets["punch_a"] = {node_at(q, Vec3(1, 1, 4)) + shift};
+  m.node_sets["punch_b"] = {node_at(q, Vec3(3, 1, 4)) + shift};
+  m.complete_node_sets();
+  AnalysisSettings s;
+  s.dimension = Dimension::three_d;
+  Model model;
+  model.settings = s;
+  model.mesh = std::move(m);
+  ASSERT_EQ(model.mesh.facet_sets["foundation_free"].empty(), false);
+  orient_facets(model.mesh);
+  auto mat = std::make_shared<LinearElastic>(E, nu);
+  model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["foundation"], mat, s));
+  model.bodies.push_back(std::make_unique<Body>("punch", model.mesh.regions["punch"], mat, s));
+  ContactPairSettings cs;
+  cs.name = "patch";
+  cs.master = "foundation_top";
+  cs.slave = "punch_bottom";
+  cs.discretization = "segment_to_segment";
+  cs.method = c.method;
+  model.contacts = {cs};
+  Step st;
+  // The foundation's and the punch's rigid motions in the plane held where the exact state
+  // puts them: u_x = exx x, u_y = exx y.
+  st.dirichlet = {test::fix("foundation_bottom", 2), test::fix("origin", 0), test::fix("origin", 1),
+                  test::fix("x_axis", 1), test::fix("punch_a", 0, exx * 1), test::fix("punch_a", 1, exx * 1),
+                  test::fix("punch_b", 1, exx * 1)};
+  for (const char* set : {"punch_top", "foundation_free"}) {
+    Load l;
+    l.kind = LoadKind::pressure;
+    l.set = set;
+    l.pressure = p;
+    st.loads.push_back(l);
+  }
+  // Matching meshes: Newton to 1e-11, so that the state is exact to the test's 1e-8.
+  if (c.tolerance < 1e-6) model.newton.residual_tolerance = 1e-11;
+  model.steps = {st};
+  Analysis a(model);
+  const AnalysisSummary sum = a.run();
+  ASSERT_TRUE(sum.completed) << sum.failure;
+  Real pmin = 1e300, pmax = -1e300;
+  int closed = 0;
+  for (const auto& ct : a.contacts())
+    for (const auto& ns : ct->slave_states()) {
+      if (ns.status != 2) continue;
+      pmin = std::min(pmin, ns.pressure);
+      pmax = std::max(pmax, ns.pressure);
+      ++closed;
+    }
+  Real szz = 0;
+  for (auto& b : model.bodies) {
+    CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
+    for (auto& sg : cr.stress) szz = std::max(szz, std::abs(sg(2) + p));
+  }
+  std::printf("3D patch %s %s: %d closed slave nodes, pressure %.10g .. %.10g, max |sigma_zz + p| %.2e\n",
+              element_info(c.punch).name.c_str(), element_info(c.foundation).name.c_str(), closed, pmin, pmax, szz);
+  EXPECT_GT(closed, 0);
+  EXPECT_NEAR(pmin, p, c.tolerance * p);
+  EXPECT_NEAR(pmax, p, c.tolerance * p);
+  EXPECT_LT(szz, c.tolerance * p);
+}
+
+// Matching meshes: exact, and every slave node of a tri6 or quad8 facet reports p (the
+// multiplier; the force per weight read 0 at tri6 corners and 5/3 p at mid-side nodes).
+// Non-matching: segment_to_segment integrates each slave facet with Gauss points, and the gap
+// has kinks inside a facet where master edges cross it, so the state is not exact. Measured
+// (pressure spread, max |sigma_zz + p|, relative to p): tet10 on hex8 0.38 % and 0.23 %,
+// hex20 on tet4 0.39 % and 0.50 %, tet4 on hex20 0.25 % and 0.11 %; asserted within 1 %. The
+// exact non-matching patch test needs segment-based integration (3D mortar, issue 14). A quad9
+// punch on a tet10 foundation is left out: its residual stagnates above 1e-4 of the force
+// scale (7.5e-5 to 1e-4 at the first increments) and the increment is cut back until it gives up.
+INSTANTIATE_TEST_SUITE_P(
+    Facets, ContactPatch3d,
+    ::testing::Values(Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "lagrange", 1e-8},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "penalty", 1e-8},
+                      Patch3dCase{ElementType::hex20, ElementType::hex8, 2, "lagrange", 1e-8},
+                      Patch3dCase{ElementType::tet4, ElementType::hex20, 2, "lagrange", 1e-8},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-2},
+                      Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-2},
+                      Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-2}),
+    case_name);
