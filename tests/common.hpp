@@ -103,14 +103,16 @@ namespace signorini::test {
 
 // Two blocks in one mesh: `lower` (regions/sets prefixed "lower_") on [0, w] x [0, h] and
 // `upper` ("upper_") shifted by `offset`. Non-matching when the cell counts differ.
-// `upper_type`: the upper block's cell type when it differs from the lower one's.
+// `upper_type`: the upper block's cell type when it differs from the lower one's; `upper_w`:
+// its width when it differs (0: w).
 inline Mesh two_blocks(ElementType type, int nl, int nu, Real w, Real h, const Vec3& offset, bool three_d = false,
-                       ElementType upper_type = ElementType::point1, int layers = 2) {
+                       ElementType upper_type = ElementType::point1, int layers = 2, Real upper_w = 0) {
   const ElementType ut = upper_type == ElementType::point1 ? type : upper_type;
+  const Real wu = upper_w > 0 ? upper_w : w;
   Mesh a = three_d ? structured_box(type, nl, nl, layers, w, w, h) : structured_rectangle(type, nl, layers, w, h);
   StructuredOptions o;
   o.origin = offset;
-  Mesh b = three_d ? structured_box(ut, nu, nu, layers, w, w, h, o) : structured_rectangle(ut, nu, layers, w, h, o);
+  Mesh b = three_d ? structured_box(ut, nu, nu, layers, wu, wu, h, o) : structured_rectangle(ut, nu, layers, wu, h, o);
   Mesh m;
   m.dim = a.dim;
   m.nodes = a.nodes;

@@ -62,39 +62,19 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
   const Patch3dCase c = GetParam();
   log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
   const Real E = 1000, nu = 0.4, p = 10, exx = nu * p / E;
-  const int nf = 4, npc = c.punch_cells;
-  Mesh f = structured_box(c.foundation, nf, nf, 2, 4, 4, 2);
-  StructuredOptions o;
-  o.origin = Vec3(1, 1, 2);
-  Mesh q = structured_box(c.punch, npc, npc, 2, 2, 2, 2, o);
-  Mesh m;
-  m.dim = 3;
-  m.nodes = f.nodes;
-  m.nodes.insert(m.nodes.end(), q.nodes.begin(), q.nodes.end());
-  for (Index i = 0; i < m.num_nodes(); ++i) m.node_ids.push_back(i + 1);
-  const Index shift = f.num_nodes();
-  auto shifted = [&](std::vector<ElementBlock> v) {
-    for (auto& b : v)
-      for (auto& k : b.conn) k += shift;
-    return v;
-  };
-  auto node_at = [&](const Mesh& mesh, const Vec3& x) {
-    for (Index i = 0; i < mesh.num_nodes(); ++i)
-      if ((mesh.nodes[i] - x).norm() < 1e-9) return i;
+  Mesh m = test::two_blocks(c.foundation, 4, c.punch_cells, 4, 2, Vec3(1, 1, 2), true, c.punch, 2, 2);
+  auto node_at = [&](const Vec3& x) {
+    for (Index i = 0; i < m.num_nodes(); ++i)
+      if ((m.nodes[i] - x).norm() < 1e-9) return i;
     ADD_FAILURE() << "no node at " << x.transpose();
     return Index(0);
   };
-  m.regions["foundation"] = f.regions["domain"];
-  m.regions["punch"] = shifted(q.regions["domain"]);
-  m.facet_sets["foundation_top"] = facets_in_footprint(f, "zmax", true);
-  m.facet_sets["foundation_free"] = facets_in_footprint(f, "zmax", false);
-  m.facet_sets["punch_bottom"] = shifted(q.facet_sets["zmin"]);
-  m.facet_sets["punch_top"] = shifted(q.facet_sets["zmax"]);
-  m.node_sets["foundation_bottom"] = f.node_sets["zmin"];
-  m.node_sets["origin"] = {node_at(f, Vec3(0, 0, 0))};
-  m.node_sets["x_axis"] = {node_at(f, Vec3(4, 0, 0))};
-  m.node_sets["punch_a"] = {node_at(q, Vec3(1, 1, 4)) + shift};
-  m.node_sets["punch_b"] = {node_at(q, Vec3(3, 1, 4)) + shift};
+  m.facet_sets["foundation_top"] = facets_in_footprint(m, "lower_zmax", true);
+  m.facet_sets["foundation_free"] = facets_in_footprint(m, "lower_zmax", false);
+  m.node_sets["origin"] = {node_at(Vec3(0, 0, 0))};
+  m.node_sets["x_axis"] = {node_at(Vec3(4, 0, 0))};
+  m.node_sets["punch_a"] = {node_at(Vec3(1, 1, 4))};
+  m.node_sets["punch_b"] = {node_at(Vec3(3, 1, 4))};
   m.complete_node_sets();
   AnalysisSettings s;
   s.dimension = Dimension::three_d;
@@ -104,22 +84,22 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
   ASSERT_EQ(model.mesh.facet_sets["foundation_free"].empty(), false);
   orient_facets(model.mesh);
   auto mat = std::make_shared<LinearElastic>(E, nu);
-  model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["foundation"], mat, s));
-  model.bodies.push_back(std::make_unique<Body>("punch", model.mesh.regions["punch"], mat, s));
+  model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["lower_domain"], mat, s));
+  model.bodies.push_back(std::make_unique<Body>("punch", model.mesh.regions["upper_domain"], mat, s));
   ContactPairSettings cs;
   cs.name = "patch";
   cs.master = "foundation_top";
-  cs.slave = "punch_bottom";
+  cs.slave = "upper_zmin";
   cs.discretization = "segment_to_segment";
   cs.method = c.method;
   model.contacts = {cs};
   Step st;
   // The foundation's and the punch's rigid motions in the plane held where the exact state
   // puts them: u_x = exx x, u_y = exx y.
-  st.dirichlet = {test::fix("foundation_bottom", 2), test::fix("origin", 0), test::fix("origin", 1),
+  st.dirichlet = {test::fix("lower_zmin", 2), test::fix("origin", 0), test::fix("origin", 1),
                   test::fix("x_axis", 1), test::fix("punch_a", 0, exx * 1), test::fix("punch_a", 1, exx * 1),
                   test::fix("punch_b", 1, exx * 1)};
-  for (const char* set : {"punch_top", "foundation_free"}) {
+  for (const char* set : {"upper_zmax", "foundation_free"}) {
     Load l;
     l.kind = LoadKind::pressure;
     l.set = set;

@@ -891,17 +891,25 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       // deform): Taylor's 2D patch test with segment_to_segment stagnates at 8e-6 at 30 % of
       // its load, 2.7e-5 at the full load.
       const bool within_stagnation_bound = !lift_pending_ && st.rnorm <= std::max(bound, 1e-4 * st.scale);
-      // Stagnation: the last three residuals of this cycle within 1 % of each other. Newton then
-      // cycles between states on either side of a jump of the residual, e.g. an integration
-      // point (segment-to-segment) or a slave node (node-to-segment) on the edge between two
-      // master facets, where the contact force follows each facet's own normal: the force jumps
-      // by about (the point's force) x (the angle between the normals). No state there meets the tolerance; one within the bound
-      // is the solution to that accuracy, accepted and reported (summary.json: "stagnated").
+      // Stagnation, the last resort before a cutback: at the last iteration of the budget, the
+      // last five residuals within 1 % of each other and the contact statuses unchanged over the
+      // last three. Newton then cycles between states on either side of a jump of the residual,
+      // e.g. an integration point (segment-to-segment) or a slave node (node-to-segment) on the
+      // edge between two master facets, where the contact force follows each facet's own
+      // normal: the force jumps by about (the point's force) x (the angle between the normals).
+      // No state there meets the tolerance; one within the bound is the solution to that
+      // accuracy, accepted and reported (summary.json: "stagnated"). Only at the end of the
+      // budget: a frictional node on the stick/slip kink may stall for three iterations with
+      // the statuses unchanged and then converge (FrictionGrid, mu 0.3, Q/(mu P) 0.6).
+      st.statuses.push_back(contact_statuses());
+      if (st.statuses.size() > 3) st.statuses.erase(st.statuses.begin());
       const size_t nres = rec.residuals.size();
       bool stagnated = false;
-      if (within_stagnation_bound && it - st.cycle_start >= 2 && nres >= 3) {
-        const Real r0 = rec.residuals[nres - 1], r1 = rec.residuals[nres - 2], r2 = rec.residuals[nres - 3];
-        stagnated = std::max({r0, r1, r2}) <= 1.01 * std::min({r0, r1, r2});
+      const bool last = it - st.cycle_start + 1 >= ns.max_iterations;
+      if (last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 && st.statuses.size() == 3 &&
+          st.statuses[0] == st.statuses[1] && st.statuses[1] == st.statuses[2]) {
+        const auto [lo, hi] = std::minmax_element(rec.residuals.end() - 5, rec.residuals.end());
+        stagnated = *hi <= 1.01 * *lo;
       }
       const bool converged = converged_residual(st.rnorm, st.scale) || (energy_ok && within_bound);
       if (stagnated && !converged) {
@@ -918,6 +926,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
           case AfterConvergence::iterate:
             // Newton goes on from here (a new cycle: its own energy reference).
             rec.stagnated = false;
+            st.statuses.clear();
             st.cycle_start = it + 1;
             st.scale = evaluate(lambda, true, R);
             st.rnorm = force_norm(R);

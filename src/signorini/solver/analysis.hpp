@@ -160,6 +160,7 @@ class Analysis {
     int released_rounds = 0;    // rounds of held-closed nodes released in tension
     bool polished = false;      // the chattering guard's holds were released once after convergence
     std::vector<int> augmentations;  // Uzawa updates per pair
+    std::vector<std::vector<char>> statuses;  // contact statuses of the last three iterations
   };
   enum class AfterConvergence { accept, iterate, fail };
   // The predictor: u from the last converged state along the last increment of the step.
