@@ -566,29 +566,30 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff(&big);
   log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (at {}), max |du| {:.3e} (at {})",
             ref > 0 ? err / ref : err, describe_unknown(worst), du_max, describe_unknown(big));
-  for (Index nd = 0; nd < dofs_.num_nodes() && worst < dofs_.num_dofs(); ++nd)
-    if (dofs_.has_dofs(nd) && worst >= dofs_.dof(nd, 0) && worst < dofs_.dof(nd, 0) + dofs_.dofs_per_node()) {
-      if (view_p.count(nd)) log::info("      at +h:{}\n      at -h:{}", view_p.at(nd), view_m.at(nd));
-      break;
-    }
+  const Index nd = node_of_unknown(worst);
+  if (view_p.count(nd)) log::info("      at +h:{}\n      at -h:{}", view_p.at(nd), view_m.at(nd));
+}
+
+Index Analysis::node_of_unknown(Index unknown) const {
+  if (unknown < 0 || unknown >= dofs_.num_dofs()) return -1;
+  for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
+    if (dofs_.has_dofs(nd) && unknown >= dofs_.dof(nd, 0) && unknown < dofs_.dof(nd, 0) + dofs_.dofs_per_node())
+      return nd;
+  return -1;
 }
 
 std::string Analysis::describe_unknown(Index unknown) const {
   if (unknown < 0) return "no unknown";
   if (unknown >= dofs_.num_dofs()) return fmt::format("unknown {} (a contact multiplier or a rigid body's)", unknown);
+  const Index nd = node_of_unknown(unknown);
+  if (nd < 0) return fmt::format("unknown {}", unknown);
   static const char* kCartesian[] = {"u_x", "u_y", "u_z"};
   static const char* kAxisymmetric[] = {"u_r", "u_z"};
   const bool axisym = model_.settings.dimension == Dimension::axisymmetric;
-  for (Index nd = 0; nd < dofs_.num_nodes(); ++nd) {
-    if (!dofs_.has_dofs(nd)) continue;
-    const Index first = dofs_.dof(nd, 0);
-    if (unknown < first || unknown >= first + dofs_.dofs_per_node()) continue;
-    const auto comp = static_cast<size_t>(unknown - first);
-    const char* name = comp < 3 ? (axisym ? (comp < 2 ? kAxisymmetric[comp] : "?") : kCartesian[comp]) : "?";
-    if (dofs_.shared(nd)) return fmt::format("rigid body of mesh node {}, {}", model_.mesh.node_ids[nd], name);
-    return fmt::format("mesh node {}, {}", model_.mesh.node_ids[nd], name);
-  }
-  return fmt::format("unknown {}", unknown);
+  const auto comp = static_cast<size_t>(unknown - dofs_.dof(nd, 0));
+  const char* name = comp < 3 ? (axisym ? (comp < 2 ? kAxisymmetric[comp] : "?") : kCartesian[comp]) : "?";
+  if (dofs_.shared(nd)) return fmt::format("rigid body of mesh node {}, {}", model_.mesh.node_ids[nd], name);
+  return fmt::format("mesh node {}, {}", model_.mesh.node_ids[nd], name);
 }
 
 std::string Analysis::largest_residual(const VecX& r) const {
@@ -901,11 +902,11 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       // accuracy, accepted and reported (summary.json: "stagnated"). Only at the end of the
       // budget: a frictional node on the stick/slip kink may stall for three iterations with
       // the statuses unchanged and then converge (FrictionGrid, mu 0.3, Q/(mu P) 0.6).
-      st.statuses.push_back(contact_statuses());
-      if (st.statuses.size() > 3) st.statuses.erase(st.statuses.begin());
+      const int left = ns.max_iterations - (it - st.cycle_start + 1);  // iterations left in the budget
+      if (left < 3) st.statuses.push_back(contact_statuses());
       const size_t nres = rec.residuals.size();
       bool stagnated = false;
-      const bool last = it - st.cycle_start + 1 >= ns.max_iterations;
+      const bool last = left <= 0;
       if (last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 && st.statuses.size() == 3 &&
           st.statuses[0] == st.statuses[1] && st.statuses[1] == st.statuses[2]) {
         const auto [lo, hi] = std::minmax_element(rec.residuals.end() - 5, rec.residuals.end());

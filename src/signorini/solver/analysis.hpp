@@ -160,7 +160,7 @@ class Analysis {
     int released_rounds = 0;    // rounds of held-closed nodes released in tension
     bool polished = false;      // the chattering guard's holds were released once after convergence
     std::vector<int> augmentations;  // Uzawa updates per pair
-    std::vector<std::vector<char>> statuses;  // contact statuses of the last three iterations
+    std::vector<std::vector<char>> statuses;  // contact statuses of the budget's last three iterations
   };
   enum class AfterConvergence { accept, iterate, fail };
   // The predictor: u from the last converged state along the last increment of the step.
@@ -186,6 +186,8 @@ class Analysis {
   // step du from u0 against central differences of the residual, logged.
   std::map<Index, std::string> contact_view() const;
   void check_tangent(Real lambda, const VecX& u0, const VecX& du, Real du_max);
+  // The mesh node whose displacement `unknown` is (-1: none).
+  Index node_of_unknown(Index unknown) const;
   // An unknown in the user's words: "mesh node 812, u_x", or what else it is.
   std::string describe_unknown(Index unknown) const;
   // Where the largest free entry of the residual r sits, for a failed increment's message.
