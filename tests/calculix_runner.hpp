@@ -30,6 +30,7 @@ struct Result {
   std::map<Index, Real> pressure;  // mesh node id -> pressure
   Real reaction = 0;               // on NTOP, along the load
   bool completed = false;
+  AnalysisSummary summary;
 };
 
 inline Result run(const std::string& deck_path, int load_axis) {
@@ -37,8 +38,8 @@ inline Result run(const std::string& deck_path, int load_axis) {
   Model m = read_deck(deck_path, r);
   Analysis a(m);
   Result out;
-  const AnalysisSummary s = a.run();
-  out.completed = s.completed;
+  out.summary = a.run();
+  out.completed = out.summary.completed;
   for (auto& c : a.contacts())
     for (const auto& ns : c->slave_states()) out.pressure[m.mesh.node_ids[ns.node]] = ns.pressure;
   out.reaction = std::abs(a.reaction_sum("NTOP")(load_axis));
@@ -64,6 +65,26 @@ inline std::string yaml_route(const std::string& mesh, bool three_d, const std::
   return d;
 }
 
+// The YAML route of yaml_route run from a temporary file (`tag` names it).
+inline Result run_yaml(const std::string& tag, const std::string& mesh, bool three_d, const std::string& contact) {
+  const fs::path yaml = fs::temp_directory_path() / ("signorini_calculix_" + tag + "_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(yaml) << yaml_route(mesh, three_d, contact);
+  Result r = run(yaml.string(), three_d ? 2 : 1);
+  fs::remove(yaml);
+  return r;
+}
+
+// Hertz's peak pressure for the total load P of the whole sphere (3D) or of the whole
+// cylinder per unit length (2D), R = 8 (Johnson 1985, eqs. 3.39-3.41, 4.43, 4.45).
+inline Real hertz_p0(Real P, bool three_d) {
+  if (three_d) {
+    const Real a = std::cbrt(3 * P * 8.0 / (4 * kEstar));
+    return 3 * P / (2 * M_PI * a * a);
+  }
+  const Real a = std::sqrt(4 * P * 8.0 / (M_PI * kEstar));
+  return 2 * P / (M_PI * a);
+}
+
 // The peak pressure's error against Hertz's p0 (relative) and the total load P of the
 // whole cylinder (per unit length) or sphere.
 struct Comparison {
@@ -74,10 +95,7 @@ struct Comparison {
 inline Comparison compare(const std::string& run_dir, const std::string& mesh, bool three_d, const std::string& contact) {
   log::set_level(log::Level::warning);
   const Result inp = run((kData / "runs" / run_dir / "job.inp").string(), three_d ? 2 : 1);
-  const fs::path yaml = fs::temp_directory_path() / ("signorini_calculix_" + run_dir + "_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(yaml) << yaml_route(mesh, three_d, contact);
-  const Result ref = run(yaml.string(), three_d ? 2 : 1);
-  fs::remove(yaml);
+  const Result ref = run_yaml(run_dir, mesh, three_d, contact);
   EXPECT_TRUE(inp.completed && ref.completed) << run_dir;
   EXPECT_EQ(inp.pressure.size(), ref.pressure.size()) << run_dir;
   Real pmax = 0, diff = 0;
@@ -93,16 +111,8 @@ inline Comparison compare(const std::string& run_dir, const std::string& mesh, b
   EXPECT_LE(diff, 1e-8 * pmax) << run_dir << ": the .inp and the YAML deck disagree";
   EXPECT_NEAR(inp.reaction, ref.reaction, 1e-8 * ref.reaction) << run_dir;
   // Hertz from the reaction: the 2D model is half the cylinder, the 3D one a quarter sphere.
-  Real p0 = 0, P = 0;
-  if (three_d) {
-    P = 4 * inp.reaction;
-    const Real a = std::cbrt(3 * P * 8.0 / (4 * kEstar));
-    p0 = 3 * P / (2 * M_PI * a * a);
-  } else {
-    P = 2 * inp.reaction;
-    const Real a = std::sqrt(4 * P * 8.0 / (M_PI * kEstar));
-    p0 = 2 * P / (M_PI * a);
-  }
+  const Real P = (three_d ? 4 : 2) * inp.reaction;
+  const Real p0 = hertz_p0(P, three_d);
   Real peak = 0;
   for (auto& [node, p] : inp.pressure) peak = std::max(peak, p);
   std::printf("%s: .inp vs YAML max pressure difference %.3g of the peak; load P %.6g; peak %.6g against Hertz p0 "
