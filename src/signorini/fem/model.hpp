@@ -104,6 +104,9 @@ struct NewtonSettings {
   // the first stiffness matrix, dl the increment as a fraction of its step; it grows as the
   // increment is cut back (analysis.cpp).
   Real stabilization = 0;
+  // At a limit point (the increment cut back to its step's minimum), retry with pseudo-transient
+  // continuation from the step's first increment size (analysis.cpp, run_steps).
+  bool pseudo_transient = true;
 };
 
 struct OutputSettings {

@@ -900,6 +900,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
   ns.growth_factor = n.number(spec, "growth_factor");
   ns.easy_iterations = static_cast<int>(n.number(spec, "easy_iterations"));
   ns.stabilization = n.number(spec, "stabilization");
+  ns.pseudo_transient = n.has("pseudo_transient") ? n.child("pseudo_transient").as_bool() : true;
 }
 
 void read_checks(const Node& n, const Registry& r, Model& m) {

@@ -409,7 +409,12 @@ void register_deck_sections(Registry& r) {
                  "stabilization factor alpha (0: off): each free DOF gets the force alpha (D / dl) (u - u_p), u_p the "
                  "increment's predicted state, D the mean diagonal of the first stiffness matrix, dl the increment's "
                  "fraction of its step; for local instabilities (a snap of the discrete problem), reported per increment",
-                 "0", 0, 1)}});
+                 "0", 0, 1),
+          text("pseudo_transient",
+               "at a limit point (an increment cut back to its step's minimum), retry it with pseudo-transient "
+               "continuation from the step's first increment size: Newton matrices shifted on their diagonal, the "
+               "residual unchanged, so the state reached is the exact equilibrium",
+               "true", ParamKind::boolean)}});
   r.add({"deck", "output", "Output settings.",
          {text("directory", "output directory (the command line's -o wins)", "results"),
           choice("vtu", "when to write ParaView files", {"every_increment", "last", "none"}, "every_increment"),

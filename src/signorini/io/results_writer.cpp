@@ -439,6 +439,7 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
       j += "]";
     }
     if (r.stabilization_ratio > 0) j += fmt::format(", \"stabilization_ratio\": {}", json_number(r.stabilization_ratio));
+    if (r.pseudo_transient) j += ", \"pseudo_transient\": true";
     if (r.stagnated) j += fmt::format(", \"stagnated\": true, \"stagnated_residual\": {}", json_number(r.stagnated_residual));
     if (!r.contact.empty()) {
       j += ", \"contact\": [";

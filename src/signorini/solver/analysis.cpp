@@ -19,6 +19,11 @@ namespace signorini {
 
 namespace {
 
+// Pseudo-transient continuation's budget, in multiples of solver.max_iterations: its damped
+// steps cross a limit point in some 100 to 200 iterations (the arch of
+// tests/verification/test_stabilization.cpp: 157).
+constexpr int kContinuationBudget = 8;
+
 // A rigid motion of the body that no Dirichlet condition stops, described in words, or ""
 // if there is none. The rigid modes (translations, rotations about the centroid scaled by
 // the body size) restricted to the constrained DOFs must have full rank.
@@ -650,6 +655,11 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
     q.body_symmetric = body_symmetric_;
     q.is_multiplier = has_multipliers_ ? &is_multiplier_ : nullptr;
     q.condense_contact = ns.condense_contact;
+    if (ptc_shift_ > 0) {
+      MatX one = MatX::Constant(1, 1, ptc_shift_);
+      for (Index i = 0; i < dofs_.num_dofs(); ++i)
+        if (!constrained_[i]) backend_->matrix().add(&i, 1, one);
+    }
     rec.linear_solver = backend_->solve(q, R, du);
     rec.krylov_iterations.push_back(backend_->last_iterations());
     // A prescribed DOF's row is diag du = diag lift: its step is known exactly, and an
@@ -805,8 +815,9 @@ Analysis::AfterConvergence Analysis::after_convergence(NewtonState& st, Incremen
   return AfterConvergence::iterate;
 }
 
-bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why) {
+bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why, bool pseudo_transient) {
   NewtonSettings ns = model_.newton;
+  ptc_shift_ = 0;
   // The residual norm is no merit function for the semi-smooth Newton method of contact
   // multipliers: a line search on it stalls the active-set updates, so steps that change the
   // active set are full; the others are searched (line_search's `statuses`).
@@ -840,25 +851,65 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
     };
     rec.residuals.push_back(st.scale > 0 ? st.rnorm / st.scale : st.rnorm);
     log::info("    iter {:2d}  |R|/F = {:.3e}", 0, rec.residuals.back());
+    // Pseudo-transient continuation (the last resort of run_steps, at a limit point): each
+    // Newton matrix gets the shift s on the diagonal of its free displacement rows, the
+    // residual stays as it is, so the fixed point is the exact equilibrium. s starts at D, the
+    // mean diagonal, and is halved after each step that lowers |R|, doubled after one that
+    // raises it; a step that inverts an element or raises |R| tenfold is rejected and retried
+    // with a doubled shift. Budget: kContinuationBudget times the Newton iterations.
+    const Real d_mean = backend_->mean_abs_diagonal();
+    Real last_rnorm = st.rnorm;
+    rec.pseudo_transient = pseudo_transient;
+    if (pseudo_transient) {
+      ns.max_iterations *= kContinuationBudget;
+      ns.line_search = false;
+    }
     if (converged_residual(st.rnorm, st.scale)) {
       rec.iterations = 0;
       return true;
     }
     for (int it = 1; it - st.cycle_start < ns.max_iterations; ++it) {
       if (const int sig = interrupt_signal()) throw Interrupted(sig);
+      if (pseudo_transient) {
+        if (it == 1) ptc_shift_ = d_mean;
+        else if (last_rnorm > 0) ptc_shift_ *= st.rnorm < last_rnorm ? 0.5 : 2.0;
+        ptc_shift_ = std::clamp(ptc_shift_, 1e-12 * d_mean, 1e3 * d_mean);
+        last_rnorm = st.rnorm;
+      }
       solve_newton_step(it, ns, R, du, rec);
       limit_turn(du);
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
       const std::vector<char> statuses = within_active_set ? contact_statuses() : std::vector<char>();
       std::map<Index, std::string> view_before;
-      if (check_tangent_) {
+      if (check_tangent_ && ptc_shift_ == 0) {  // (a shifted matrix is not the tangent)
         view_before = contact_view();
         check_tangent(lambda, u0, du, du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff());
       }
       Real new_scale = 0, new_norm = 0;
-      const Real alpha =
-          line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm, within_active_set ? &statuses : nullptr);
+      Real alpha = 1;
+      if (pseudo_transient) {
+        bool inverted = false;
+        try {
+          alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm);
+        } catch (const SolverError&) {
+          inverted = true;
+        }
+        if (inverted || !(new_norm <= 10 * st.rnorm)) {
+          // Rejected: back to u0 (its residual and tangent), a doubled shift, the step again.
+          u_ = u0;
+          ptc_shift_ = std::min(2 * ptc_shift_, 1e3 * d_mean);
+          st.scale = std::max(st.scale, evaluate(lambda, true, R));
+          log::info("    iter {:2d}  step rejected ({}); shift {:.3g} D", it,
+                    inverted ? std::string("an element inverts") : fmt::format("|R|/F = {:.3e}", new_norm / st.scale),
+                    ptc_shift_ / d_mean);
+          last_rnorm = 0;
+          continue;
+        }
+      } else {
+        alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm,
+                            within_active_set ? &statuses : nullptr);
+      }
       if (check_tangent_) {
         const auto view_after = contact_view();
         for (auto& [node, text] : view_after)
@@ -874,8 +925,9 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       rec.energies.push_back(energy);
       rec.iterations = it;
       const int krylov = rec.krylov_iterations.empty() ? 0 : rec.krylov_iterations.back();
-      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}{}", it, rel, energy,
+      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}{}{}", it, rel, energy,
                 alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string(),
+                ptc_shift_ > 0 ? fmt::format("  (shift {:.3g} D)", ptc_shift_ / d_mean) : std::string(),
                 krylov > 0 ? fmt::format("  [{} Krylov iterations]", krylov) : std::string());
       if (!std::isfinite(st.rnorm)) {
         why = "residual is not finite";
@@ -907,8 +959,9 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       const size_t nres = rec.residuals.size();
       bool stagnated = false;
       const bool last = left <= 0;
-      if (last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 && st.statuses.size() == 3 &&
-          st.statuses[0] == st.statuses[1] && st.statuses[1] == st.statuses[2]) {
+      // (Not under pseudo-transient continuation: its residual may crawl while the state moves.)
+      if (!pseudo_transient && last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 &&
+          st.statuses.size() == 3 && st.statuses[0] == st.statuses[1] && st.statuses[1] == st.statuses[2]) {
         const auto [lo, hi] = std::minmax_element(rec.residuals.end() - 5, rec.residuals.end());
         stagnated = *hi <= 1.01 * *lo;
       }
@@ -983,6 +1036,7 @@ AnalysisSummary Analysis::run_steps() {
               step.loads.size());
     Real lambda = 0, dl = std::min(step.initial_increment, step.max_increment);
     int inc = 0, cutbacks = 0, failed_iterations = 0;
+    bool continuation = false;
     while (lambda < 1 - 1e-12) {
       if (const int sig = interrupt_signal()) throw Interrupted(sig);
       if (inc >= step.max_increments) {
@@ -997,7 +1051,7 @@ AnalysisSummary Analysis::run_steps() {
       log::Timer t;
       std::string why;
       dt_ = dl * step.duration;
-      const bool ok = solve_increment(lambda + dl, dl, rec, why);
+      bool ok = solve_increment(lambda + dl, dl, rec, why, continuation);
       if (!ok) {
         ++cutbacks;
         failed_iterations += rec.iterations;
@@ -1005,13 +1059,27 @@ AnalysisSummary Analysis::run_steps() {
         const Real next = dl * model_.newton.cutback_factor;
         log::warning("step '{}' increment {} (fraction {:.4g} -> {:.4g}) failed: {}; cutting back to {:.3g}",
                      step.name, inc + 1, lambda, lambda + dl, why, next);
+        // The last resort: a limit point (no equilibrium near the last one, e.g. a snap of an
+        // arch or a stick-slip release). Cutting back brings the increment ever closer to the
+        // limit, where the distant equilibrium is hardest to reach; pseudo-transient
+        // continuation from the step's first increment size (beyond the limit by a finite
+        // amount) follows a damped path to it, cut back in turn if it fails.
+        if (next < step.min_increment * (1 - 1e-12) && !continuation && model_.newton.pseudo_transient) {
+          continuation = true;
+          dl = std::min({step.initial_increment, step.max_increment, 1 - lambda});
+          log::warning("step '{}' at fraction {:.6g}: the increment reached its minimum; pseudo-transient continuation "
+                       "from an increment of {:.4g}",
+                       step.name, lambda, dl);
+          continue;
+        }
         if (next < step.min_increment * (1 - 1e-12)) {
           u_ = u_converged_;
           for (auto& h : history_) h.revert();
           summary_.failure =
               fmt::format("step '{}' at fraction {:.6g}: {}; the increment would fall below the minimum {:.3g} "
-                          "after {} cutbacks. The last converged state is kept.",
-                          step.name, lambda, why, step.min_increment, cutbacks);
+                          "after {} cutbacks{}. The last converged state is kept.",
+                          step.name, lambda, why, step.min_increment, cutbacks,
+                          continuation ? " (pseudo-transient continuation included)" : "");
           summary_.total_seconds = total.seconds();
           return summary_;
         }
@@ -1034,6 +1102,7 @@ AnalysisSummary Analysis::run_steps() {
       rec.seconds = t.seconds();
       rec.stabilization_ratio = stab_ratio_;
       cutbacks = failed_iterations = 0;
+      continuation = false;
       summary_.total_iterations += rec.iterations;
       summary_.increments.push_back(rec);
       std::string contact;
@@ -1044,6 +1113,7 @@ AnalysisSummary Analysis::run_steps() {
                        : fmt::format("  [{}: {} closed, {} changed]", c.label, c.active, c.changes);
       if (model_.newton.stabilization > 0)
         contact += fmt::format("  [stabilization |f_v|/F {:.2e}]", rec.stabilization_ratio);
+      if (rec.pseudo_transient) contact += "  [pseudo-transient continuation]";
       log::info("step {} '{}'  inc {:3d}  fraction {:.4f} (+{:.4g})  iters {:2d}  |R|/F {:.2e}  {:.2f} s  [{:.1f} s]{}",
                 s + 1, step.name, inc, lambda, dl, rec.iterations, rec.residuals.back(), rec.seconds,
                 log::elapsed(), contact);

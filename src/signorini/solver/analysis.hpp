@@ -49,6 +49,8 @@ struct IncrementRecord {
   // could not reduce (a jump of the residual; analysis.cpp, solve_increment).
   bool stagnated = false;
   Real stagnated_residual = 0;  // the relative residual accepted
+  // Converged by pseudo-transient continuation (the last resort at a limit point).
+  bool pseudo_transient = false;
 };
 
 struct AnalysisSummary {
@@ -151,7 +153,7 @@ class Analysis {
   // named steps: predict, begin_contact_increment, then Newton iterations (solve_newton_step,
   // line_search, the contact status count) until the residual converges and
   // after_convergence accepts. False with `why` when it fails (the caller cuts back).
-  bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why);
+  bool solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::string& why, bool pseudo_transient = false);
   // The state of one increment's Newton iterations.
   struct NewtonState {
     Real scale = 0, rnorm = 0, energy0 = 0;
@@ -203,6 +205,7 @@ class Analysis {
   // Stabilization: the stiffness scale D (set at the first tangent), the current increment
   // dl, and |f_v| / F at the last evaluation.
   Real stab_scale_ = 0, stab_dl_ = 0, stab_ratio_ = 0;
+  Real ptc_shift_ = 0;  // pseudo-transient continuation: the shift on the free displacement rows' diagonal
   VecX u_predicted_;  // the increment's starting state (the predictor's)
   // SIGNORINI_CHECK_TANGENT=1: log the tangent against central differences along each Newton step.
   bool check_tangent_ = std::getenv("SIGNORINI_CHECK_TANGENT") != nullptr;
