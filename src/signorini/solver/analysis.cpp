@@ -945,8 +945,11 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       // its load, 2.7e-5 at the full load.
       const bool within_stagnation_bound = !lift_pending_ && st.rnorm <= std::max(bound, 1e-4 * st.scale);
       // Stagnation, the last resort before a cutback: at the last iteration of the budget, the
-      // last five residuals within 1 % of each other and the contact statuses unchanged over the
-      // last three. Newton then cycles between states on either side of a jump of the residual,
+      // contact statuses unchanged over the last three iterations, and either the last five
+      // residuals within 1 % of each other (flat) or the last ten within the bound with no
+      // progress (the best of the last five no better than half the best of the five before: a
+      // cycle, e.g. penalty's line search at 1/64 on CalculiX's fine tet4 Hertz mesh, a
+      // period-5 cycle between 2.9e-5 and 5e-5 at every increment size). Newton then cycles between states on either side of a jump of the residual,
       // e.g. an integration point (segment-to-segment) or a slave node (node-to-segment) on the
       // edge between two master facets, where the contact force follows each facet's own
       // normal: the force jumps by about (the point's force) x (the angle between the normals).
@@ -959,11 +962,18 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       const size_t nres = rec.residuals.size();
       bool stagnated = false;
       const bool last = left <= 0;
-      // (Not under pseudo-transient continuation: its residual may crawl while the state moves.)
-      if (!pseudo_transient && last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 &&
+      // Only with contact, whose force is what jumps (a model without contact near a limit point
+      // converges slowly, not stagnates), and not under pseudo-transient continuation (its
+      // residual may crawl while the state moves).
+      if (!contacts_.empty() && !pseudo_transient && last && within_stagnation_bound && it - st.cycle_start >= 4 && nres >= 5 &&
           st.statuses.size() == 3 && st.statuses[0] == st.statuses[1] && st.statuses[1] == st.statuses[2]) {
         const auto [lo, hi] = std::minmax_element(rec.residuals.end() - 5, rec.residuals.end());
         stagnated = *hi <= 1.01 * *lo;
+        if (!stagnated && it - st.cycle_start >= 9 && nres >= 10 && st.scale > 0) {
+          const Real limit = std::max(bound, 1e-4 * st.scale) / st.scale;
+          const Real before = *std::min_element(rec.residuals.end() - 10, rec.residuals.end() - 5);
+          stagnated = *std::max_element(rec.residuals.end() - 10, rec.residuals.end()) <= limit && *lo >= 0.5 * before;
+        }
       }
       const bool converged = converged_residual(st.rnorm, st.scale) || (energy_ok && within_bound);
       if (stagnated && !converged) {
