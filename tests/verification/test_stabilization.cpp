@@ -6,7 +6,7 @@
 // Newton happens to jump over the limit point, then F = 50) reaches without any help.
 // - The default, pseudo-transient continuation at the limit point, must end on that
 //   equilibrium itself (its residual is the unshifted one): the crown displacement to 1e-6,
-//   for several loads and in two systems of units (the same iterations in both).
+//   for two loads and in two systems of units (the same iterations in both).
 // - The stabilization (solver.stabilization) crosses the snap by a sequence of damped states:
 //   the crown within 1e-3, and the stabilization force left at the end a negligible part.
 #include <gtest/gtest.h>
@@ -49,7 +49,7 @@ const char* kNoContinuation = "solver: {pseudo_transient: false}\n";
 TEST(PseudoTransient, ArchSnapsThroughToTheExactInvertedEquilibrium) {
   // Loaded by 0.5 per increment (the limit load is 11.6), whatever the final load: increments
   // small against the snap, where Newton with cutbacks alone cannot jump over the limit point.
-  for (const Real force : {30.0, 50.0, 100.0}) {
+  for (const Real force : {30.0, 50.0}) {
     const Real inc = 0.5 / force;
     const test::HertzRun plain =
         test::run_deck_text(arch_deck(step("load", force, inc), kNoContinuation), "arch_plain");

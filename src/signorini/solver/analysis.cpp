@@ -1067,14 +1067,18 @@ AnalysisSummary Analysis::run_steps() {
         failed_iterations += rec.iterations;
         summary_.failed_iterations += rec.iterations;
         const Real next = dl * model_.newton.cutback_factor;
-        log::warning("step '{}' increment {} (fraction {:.4g} -> {:.4g}) failed: {}; cutting back to {:.3g}",
-                     step.name, inc + 1, lambda, lambda + dl, why, next);
+        // Pseudo-transient continuation was the last resort: no cutback after it.
+        const bool give_up = continuation || next < step.min_increment * (1 - 1e-12);
+        log::warning("step '{}' increment {} (fraction {:.4g} -> {:.4g}) failed: {}{}", step.name, inc + 1, lambda,
+                     lambda + dl, why, give_up ? std::string() : fmt::format("; cutting back to {:.3g}", next));
         // The last resort: a limit point (no equilibrium near the last one, e.g. a snap of an
-        // arch or a stick-slip release). Cutting back brings the increment ever closer to the
-        // limit, where the distant equilibrium is hardest to reach; pseudo-transient
-        // continuation from the step's first increment size (beyond the limit by a finite
-        // amount) follows a damped path to it, cut back in turn if it fails.
-        if (next < step.min_increment * (1 - 1e-12) && !continuation && model_.newton.pseudo_transient) {
+        // arch, a stick-slip release, a slave node passing a master corner). Cutting back brings
+        // the increment ever closer to the limit, where the distant equilibrium is hardest to
+        // reach; pseudo-transient continuation from the step's first increment size (beyond the
+        // limit by a finite amount) follows a damped path to it. Tried once: where no
+        // equilibrium exists (a load above the limit load), cutting it back costs its budget
+        // again and again.
+        if (give_up && !continuation && model_.newton.pseudo_transient) {
           continuation = true;
           dl = std::min({step.initial_increment, step.max_increment, 1 - lambda});
           log::warning("step '{}' at fraction {:.6g}: the increment reached its minimum; pseudo-transient continuation "
@@ -1082,14 +1086,18 @@ AnalysisSummary Analysis::run_steps() {
                        step.name, lambda, dl);
           continue;
         }
-        if (next < step.min_increment * (1 - 1e-12)) {
+        if (give_up) {
           u_ = u_converged_;
           for (auto& h : history_) h.revert();
           summary_.failure =
-              fmt::format("step '{}' at fraction {:.6g}: {}; the increment would fall below the minimum {:.3g} "
-                          "after {} cutbacks{}. The last converged state is kept.",
-                          step.name, lambda, why, step.min_increment, cutbacks,
-                          continuation ? " (pseudo-transient continuation included)" : "");
+              continuation
+                  ? fmt::format("step '{}' at fraction {:.6g}: the increment fell to its minimum {:.3g} after {} "
+                                "cutbacks, and pseudo-transient continuation from an increment of {:.4g} failed too "
+                                "({}). The last converged state is kept.",
+                                step.name, lambda, step.min_increment, cutbacks - 1, dl, why)
+                  : fmt::format("step '{}' at fraction {:.6g}: {}; the increment would fall below the minimum {:.3g} "
+                                "after {} cutbacks. The last converged state is kept.",
+                                step.name, lambda, why, step.min_increment, cutbacks);
           summary_.total_seconds = total.seconds();
           return summary_;
         }
