@@ -5,7 +5,7 @@
 //   sliding vanishes up to the discretization: |H| < 1 % of V at t = 1.5;
 // - Coulomb friction mu = 0.3, with the solver's stabilization through the onset of gross
 //   sliding (about 25 minutes), and without it, crossing that limit point and the later ones by
-//   pseudo-transient continuation (about an hour): each completes, and V, H and H/V at t = 1.5
+//   pseudo-transient continuation (about 30 minutes): each completes, and V, H and H/V at t = 1.5
 //   lie within the spread of the published results (digitised in
 //   shared/reference-data/shallow-ironing: V 3.37-4.21, H 1.0-1.9 in 1e8 units; H/V 0.30-0.53
 //   as VALIDATION.md lists).
