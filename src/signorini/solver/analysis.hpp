@@ -134,6 +134,8 @@ class Analysis {
   std::vector<std::pair<Index, Real>> moment_rows_;  // (unknown, 1 / length)
   RigidRotations rotations_;             // turning meshed rigid bodies (ContactInterface reads it)
   std::vector<size_t> turning_bodies_;   // their model indices, in rotations_'s order
+  // Adds c to the diagonal of every free displacement row of the global matrix.
+  void add_free_diagonal(Real c);
   Real add_stabilization(VecX& fint, bool tangent);
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
   // A moment M on the n angles from unknown `first`: its generalized force T^T M and, in 3D
