@@ -85,6 +85,13 @@ inline Real hertz_p0(Real P, bool three_d) {
   return 2 * P / (M_PI * a);
 }
 
+// The largest nodal contact pressure of a run.
+inline Real peak_pressure(const Result& r) {
+  Real peak = 0;
+  for (const auto& [node, p] : r.pressure) peak = std::max(peak, p);
+  return peak;
+}
+
 // The peak pressure's error against Hertz's p0 (relative) and the total load P of the
 // whole cylinder (per unit length) or sphere.
 struct Comparison {
@@ -113,8 +120,7 @@ inline Comparison compare(const std::string& run_dir, const std::string& mesh, b
   // Hertz from the reaction: the 2D model is half the cylinder, the 3D one a quarter sphere.
   const Real P = (three_d ? 4 : 2) * inp.reaction;
   const Real p0 = hertz_p0(P, three_d);
-  Real peak = 0;
-  for (auto& [node, p] : inp.pressure) peak = std::max(peak, p);
+  const Real peak = peak_pressure(inp);
   std::printf("%s: .inp vs YAML max pressure difference %.3g of the peak; load P %.6g; peak %.6g against Hertz p0 "
               "%.6g (%+.3f %%)\n",
               run_dir.c_str(), diff / pmax, P, peak, p0, 100 * (peak / p0 - 1));
