@@ -460,6 +460,71 @@ TEST(ContactSurface, AxisymmetricWeightsOnTheAxis) {
   EXPECT_EQ(cases, 40);
 }
 
+// The averaged 3D nodal normal and its derivative (MasterSurface::node_normal_jacobian_3d:
+// segment_to_segment's slave normal, which 3D friction's tangent reads) against central
+// differences of node_normal, at an inner, an edge and a corner node of curved, jittered
+// surfaces of quad4, tri6, quad8 and quad9 facets (a 5 x 5 grid of nodes: 4 x 4 quad4 cells, or
+// 2 x 2 quadratic cells, each split into two tri6), and at mid-side and centre nodes.
+TEST(ContactSurface, NodalNormalJacobianMatchesCentralDifferences3D) {
+  const std::vector<Vec3>& x0 = curved_grid().x;
+  auto at = [](int i, int j) { return static_cast<Index>(i + 5 * j); };
+  int checked = 0;
+  for (ElementType type : {ElementType::quad4, ElementType::tri6, ElementType::quad8, ElementType::quad9}) {
+    MasterSurface m;
+    m.node_facets.resize(x0.size());
+    auto add = [&](ElementType t, std::vector<Index> f) {
+      m.type.push_back(t);
+      m.facets.push_back(f);
+      for (Index n : f) m.node_facets[n].push_back(m.size() - 1);
+    };
+    for (int J = 0; J < (type == ElementType::quad4 ? 4 : 2); ++J)
+      for (int I = 0; I < (type == ElementType::quad4 ? 4 : 2); ++I) {
+        if (type == ElementType::quad4) {
+          add(type, {at(I, J), at(I + 1, J), at(I + 1, J + 1), at(I, J + 1)});
+          continue;
+        }
+        const int i = 2 * I, j = 2 * J;
+        const Index a = at(i, j), b = at(i + 2, j), c = at(i + 2, j + 2), d = at(i, j + 2);
+        if (type == ElementType::tri6) {
+          add(type, {a, b, c, at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 1)});
+          add(type, {a, c, d, at(i + 1, j + 1), at(i + 1, j + 2), at(i, j + 1)});
+        } else {
+          std::vector<Index> f = {a, b, c, d, at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)};
+          if (type == ElementType::quad9) f.push_back(at(i + 1, j + 1));
+          add(type, f);
+        }
+      }
+    // Inner corner, edge, corner, and (quadratic) mid-side and centre nodes.
+    for (Index node : {at(2, 2), at(2, 0), at(0, 0), at(1, 2), at(1, 1), at(3, 4)}) {
+      if (m.node_facets[node].empty()) continue;
+      std::vector<Vec3> x = x0;
+      Vec3 n;
+      std::vector<Index> nodes;
+      MatX J;
+      m.node_normal_jacobian_3d(node, x, n, nodes, J);
+      EXPECT_LT((n - m.node_normal(node, x, 3)).norm(), 1e-14);
+      ASSERT_EQ(J.cols(), 3 * static_cast<Index>(nodes.size()));
+      const Real h = 1e-6;
+      Real err = 0, scale = 0;
+      for (size_t a = 0; a < nodes.size(); ++a)
+        for (int d = 0; d < 3; ++d) {
+          x[nodes[a]](d) += h;
+          const Vec3 np = m.node_normal(node, x, 3);
+          x[nodes[a]](d) -= 2 * h;
+          const Vec3 nm = m.node_normal(node, x, 3);
+          x[nodes[a]](d) += h;
+          const Vec3 fd = (np - nm) / (2 * h);
+          err = std::max(err, (fd - J.col(3 * static_cast<Index>(a) + d)).cwiseAbs().maxCoeff());
+          scale = std::max(scale, fd.cwiseAbs().maxCoeff());
+        }
+      EXPECT_GT(scale, 0.1) << "the normal depends on its nodes";
+      EXPECT_LT(err, 1e-7 * scale) << element_info(type).name << " node " << node;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 6 + 6 + 5 + 6);  // quad8 has no centre node
+}
+
 // ---------------------------------------------------------------------------------------
 // Rotations (geometry/rotation.hpp): R against Eigen's angle-axis rotation, and its first and
 // second derivatives, the spin operator T and its derivative against central differences, at

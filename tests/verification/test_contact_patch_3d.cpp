@@ -58,10 +58,13 @@ std::vector<ElementBlock> facets_in_footprint(const Mesh& m, const std::string& 
 
 class ContactPatch3d : public ::testing::TestWithParam<Patch3dCase> {};
 
-TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
-  const Patch3dCase c = GetParam();
-  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
-  const Real E = 1000, nu = 0.4, p = 10, exx = nu * p / E;
+namespace {
+
+// The patch test's model: the two blocks, the pair (segment_to_segment, `method`), the pressure
+// p on the punch top and on the uncovered foundation top, the rigid motions held where the exact
+// state puts them (u_x = exx x, u_y = exx y).
+Model patch_model(const Patch3dCase& c, Real E, Real nu, Real p) {
+  const Real exx = nu * p / E;
   Mesh m = test::two_blocks(c.foundation, 4, c.punch_cells, 4, 2, Vec3(1, 1, 2), true, c.punch, 2, 2);
   auto node_at = [&](const Vec3& x) {
     for (Index i = 0; i < m.num_nodes(); ++i)
@@ -81,7 +84,7 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
   Model model;
   model.settings = s;
   model.mesh = std::move(m);
-  ASSERT_EQ(model.mesh.facet_sets["foundation_free"].empty(), false);
+  EXPECT_EQ(model.mesh.facet_sets["foundation_free"].empty(), false);
   orient_facets(model.mesh);
   auto mat = std::make_shared<LinearElastic>(E, nu);
   model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["lower_domain"], mat, s));
@@ -94,8 +97,6 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
   cs.method = c.method;
   model.contacts = {cs};
   Step st;
-  // The foundation's and the punch's rigid motions in the plane held where the exact state
-  // puts them: u_x = exx x, u_y = exx y.
   st.dirichlet = {test::fix("lower_zmin", 2), test::fix("origin", 0), test::fix("origin", 1),
                   test::fix("x_axis", 1), test::fix("punch_a", 0, exx * 1), test::fix("punch_a", 1, exx * 1),
                   test::fix("punch_b", 1, exx * 1)};
@@ -106,9 +107,19 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
     l.pressure = p;
     st.loads.push_back(l);
   }
+  model.steps = {st};
+  return model;
+}
+
+}  // namespace
+
+TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) {
+  const Patch3dCase c = GetParam();
+  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
+  const Real E = 1000, nu = 0.4, p = 10;
+  Model model = patch_model(c, E, nu, p);
   // Matching meshes: Newton to 1e-11, so that the state is exact to the test's 1e-8.
   if (c.tolerance < 1e-6) model.newton.residual_tolerance = 1e-11;
-  model.steps = {st};
   Analysis a(model);
   const AnalysisSummary sum = a.run();
   ASSERT_TRUE(sum.completed) << sum.failure;
@@ -152,4 +163,70 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-2},
                       Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-2},
                       Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-2}),
+    case_name);
+
+// The same patch with Coulomb friction (mu = 0.2, segment_to_segment in 3D: the slip of each
+// slave node averaged over its facets' integration points, against the slave's averaged normal
+// and its variation, MasterSurface::node_normal_jacobian_3d), the whole foundation top as
+// master: pressed as above, then the punch top is moved by 0.1 along x (the punch's elastic
+// shear takes some 0.01), so that every contact node slips. Coulomb's law then holds at every
+// node, |t_j| = mu p_j, and the force on the punch top balances the friction forces: their
+// magnitudes sum to mu P (P = 4 p) and they point against the motion, so Q_x <= mu P, and close
+// to it: the held top tilts the pressure towards the leading edge and the y-anchors of the two
+// bodies (the punch at y = 1, the foundation at y = 0) give the slips a y part (measured: Q_x
+// 4.3 to 6.2 % below mu P, Q_y 2.5 to 3.8 % of P: the directions' spread). Asserted: every
+// closed node slipping, |t_j| = mu p_j to 1e-6, 0.9 mu P < Q_x <= mu P. Linear master facets
+// only: on tri6, quad8 and quad9 masters (tet10, hex20 foundations) one to three slave nodes
+// chatter between stick and slip, are held in stick by the chattering guard and end stuck
+// (Q_x 25 to 35 % below mu P), so the compatibility table refuses friction there.
+class ContactPatch3dFriction : public ::testing::TestWithParam<Patch3dCase> {};
+
+TEST_P(ContactPatch3dFriction, SlidingPunchObeysCoulombAtEveryNode) {
+  const Patch3dCase c = GetParam();
+  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
+  const Real E = 1000, nu = 0.4, p = 10, mu = 0.2, exx = nu * p / E, P = 4 * p;
+  Model model = patch_model(c, E, nu, p);
+  model.contacts[0].friction = "coulomb";
+  model.contacts[0].friction_parameter = mu;
+  model.contacts[0].master = "lower_zmax";  // the whole top: the punch slides beyond the footprint
+  Step slide = model.steps[0];
+  slide.dirichlet = {test::fix("lower_zmin", 2), test::fix("origin", 0),       test::fix("origin", 1),
+                     test::fix("x_axis", 1),     test::fix("upper_zmax", 0, 0.1), test::fix("punch_a", 1, exx * 1),
+                     test::fix("punch_b", 1, exx * 1)};
+  model.steps.push_back(slide);
+  Analysis a(model);
+  const AnalysisSummary sum = a.run();
+  ASSERT_TRUE(sum.completed) << sum.failure;
+  int closed = 0, slipping = 0;
+  Real coulomb = 0, pmax = 0;
+  for (const auto& ct : a.contacts())
+    for (const auto& ns : ct->slave_states()) {
+      if (ns.status < 2) continue;
+      ++closed;
+      slipping += ns.status == 3;
+      coulomb = std::max(coulomb, ns.status == 3 ? std::abs(ns.traction.norm() - mu * ns.pressure)
+                                                 : std::max(0.0, ns.traction.norm() - mu * ns.pressure));
+      pmax = std::max(pmax, ns.pressure);
+    }
+  const Vec3 Q = a.reaction_sum("upper_zmax");
+  int iterations = 0;
+  for (const auto& inc : sum.increments) iterations += inc.iterations;
+  std::printf("3D sliding patch %s on %s (%s): %d closed, %d slipping; max ||t_j| - mu p_j| / (mu max p) %.1e; "
+              "Q_x / (mu P) - 1 = %.3e, Q_y / P = %.1e; %zu increments, %d Newton iterations\n",
+              element_info(c.punch).name.c_str(), element_info(c.foundation).name.c_str(), c.method, closed, slipping,
+              coulomb / (mu * pmax), Q(0) / (mu * P) - 1, Q(1) / P, sum.increments.size(), iterations);
+  EXPECT_GT(closed, 0);
+  EXPECT_EQ(slipping, closed) << "every contact node slips";
+  EXPECT_LT(coulomb, 1e-6 * mu * pmax) << "Coulomb's law at every node";
+  EXPECT_LE(Q(0), mu * P * (1 + 1e-6)) << "the friction forces' magnitudes sum to mu P";
+  EXPECT_GT(Q(0), 0.9 * mu * P) << "and they point against the motion";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Facets, ContactPatch3dFriction,
+    ::testing::Values(Patch3dCase{ElementType::hex8, ElementType::hex8, 2, "lagrange", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "lagrange", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "penalty", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "augmented_lagrangian", 0},
+                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "lagrange", 0}),
     case_name);

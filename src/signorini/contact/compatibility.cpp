@@ -72,14 +72,17 @@ const std::vector<Rule>& rules() {
          return std::string("mortar is available in 2D (plane strain, plane stress, axisymmetric) so far: use "
                             "node_to_segment in 3D");
        }},
-      {"segment_to_segment with friction in 3D",
+      {"segment_to_segment with friction on quadratic master facets in 3D",
        [](const ContactCombination& c) {
-         return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension);
+         return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension) &&
+                !c.rigid() && !linear(c.master_facet);
        },
        "friction",
        [](const ContactCombination&) {
-         return std::string("segment_to_segment has friction in 2D only so far (the variation of the averaged 3D "
-                            "slave normal is not built yet): use node_to_segment for 3D friction");
+         return std::string("segment_to_segment with friction needs linear master facets (tri3, quad4) in 3D so far: "
+                            "on tri6, quad8 and quad9 masters slave nodes chatter between stick and slip and end held "
+                            "in stick while the surface slides (the 3D sliding patch test); make the linear side "
+                            "master or use node_to_segment");
        }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {

@@ -103,7 +103,7 @@ void ContactInterface::detect(const std::vector<Vec3>& x, Real max_step) {
   dmax_ = s_.max_distance > 0 ? s_.max_distance : 2 * mean_master_edge_ + 2 * max_step;
   std::vector<char> tracked(nodes_.size());
   for (size_t j = 0; j < nodes_.size(); ++j) tracked[j] = nodes_[j].last_closed;
-  discretization_->detect(x, dmax_, tracked);
+  discretization_->detect(x, dmax_, 2 * max_step, tracked);
 }
 
 void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Index>>& out) const {

@@ -35,6 +35,55 @@ Vec3 MasterSurface::node_normal(Index node, const std::vector<Vec3>& x, int dim)
   return n.norm() > 0 ? Vec3(n.normalized()) : n;
 }
 
+namespace {
+// [a]x: the matrix of a x . (so that a x b = cross_matrix(a) b).
+Mat3 cross_matrix(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a(2), a(1), a(2), 0, -a(0), -a(1), a(0), 0;
+  return m;
+}
+}  // namespace
+
+void MasterSurface::node_normal_jacobian_3d(Index node, const std::vector<Vec3>& x, Vec3& n, std::vector<Index>& nodes,
+                                            MatX& jacobian) const {
+  nodes.clear();
+  for (Index f : node_facets[node])
+    for (Index m : facets[f])
+      if (std::find(nodes.begin(), nodes.end(), m) == nodes.end()) nodes.push_back(m);
+  const Index cols = 3 * static_cast<Index>(nodes.size());
+  MatX ds = MatX::Zero(3, cols);  // d s / dx
+  Vec3 s = Vec3::Zero();
+  VecX N;
+  MatX dN;
+  for (Index f : node_facets[node]) {
+    const auto& fn = facets[f];
+    const int k = static_cast<int>(std::find(fn.begin(), fn.end(), node) - fn.begin());
+    shape_functions(type[f], element_info(type[f]).ref_coords[k], N, dN);
+    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
+    for (size_t i = 0; i < fn.size(); ++i) a1 += dN(i, 0) * x[fn[i]], a2 += dN(i, 1) * x[fn[i]];
+    const Vec3 m = a1.cross(a2);
+    const Real len = m.norm();
+    if (!(len > 0)) continue;
+    const Vec3 nf = m / len;
+    s += nf;
+    const Mat3 P = (Mat3::Identity() - nf * nf.transpose()) / len;
+    const Mat3 A1 = cross_matrix(a1), A2 = cross_matrix(a2);
+    for (size_t i = 0; i < fn.size(); ++i) {
+      const Index c = std::find(nodes.begin(), nodes.end(), fn[i]) - nodes.begin();
+      // dm/dx_i = N_i,1 (-[a2]x) + N_i,2 [a1]x.
+      ds.middleCols(3 * c, 3) += P * (dN(i, 1) * A1 - dN(i, 0) * A2);
+    }
+  }
+  const Real sl = s.norm();
+  if (!(sl > 0)) {
+    n.setZero();
+    jacobian.setZero(3, cols);
+    return;
+  }
+  n = s / sl;
+  jacobian = (Mat3::Identity() - n * n.transpose()) / sl * ds;
+}
+
 FacetBasis MasterSurface::basis(Index f) const {
   if (!patch.empty()) return FacetBasis::bicubic(&patch[f]);
   if (!smooth()) return FacetBasis(type[f]);

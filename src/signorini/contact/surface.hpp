@@ -22,6 +22,13 @@ struct MasterSurface {
   std::vector<Index> neighbourhood(Index f) const;
   // Average outward normal at a master node (current positions x).
   Vec3 node_normal(Index node, const std::vector<Vec3>& x, int dim) const;
+  // The same normal in 3D, n = s / |s| with s = sum_f n_f the sum of the unit normals of the
+  // facets around the node at its parameter, and its derivative J = dn/dx over `nodes` (the
+  // nodes of those facets, 3 columns each): dn = (I - n n^T) ds / |s|, dn_f = (I - n_f n_f^T)
+  // dm / |m| with m = a1 x a2, dm = da1 x a2 + a1 x da2, da_alpha = sum_i N_i,alpha dx_i
+  // (course, "covariant basis"; checked against central differences in test_contact_geometry).
+  void node_normal_jacobian_3d(Index node, const std::vector<Vec3>& x, Vec3& n, std::vector<Index>& nodes,
+                               MatX& jacobian) const;
   // Hermite smoothing (2D): per facet, the node before its first node and the node after its
   // second (-1: none, at an end of the surface or a corner kept sharp). Empty: faceted.
   std::vector<Index> prev, next;

@@ -12,6 +12,7 @@
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
 
 namespace signorini {
 
@@ -145,7 +146,7 @@ class DeformableMaster : public Discretization {
 
  protected:
   // The closest facet of each slave node within dmax (-1: none).
-  void search(const std::vector<Vec3>& x, Real dmax, std::vector<Index>& facet) {
+  void search(const std::vector<Vec3>& x, Real dmax, std::vector<Index>& facet, std::vector<Real>* distance = nullptr) {
     const int nc = facets_.corners;
     facets_.points.resize(master_.size() * nc);
     for (Index f = 0; f < master_.size(); ++f)
@@ -157,15 +158,26 @@ class DeformableMaster : public Discretization {
     search_->closest(pts, dmax, hits);
     facet.resize(pts.size());
     for (size_t j = 0; j < pts.size(); ++j) facet[j] = hits[j].facet;
+    if (distance) {
+      distance->resize(pts.size());
+      for (size_t j = 0; j < pts.size(); ++j) (*distance)[j] = hits[j].distance;
+    }
   }
 
   // Per slave facet of `sf`: the master facets whose bounding box meets the facet's, grown by
-  // dmax, reached from the closest master facets of its nodes through shared nodes (a facet
-  // whose nodes found none keeps its list while one of them is tracked).
+  // a margin, reached from the closest master facets of its nodes through shared nodes (a facet
+  // whose nodes found none keeps its list while one of them is tracked). The margin is dmax;
+  // with motion >= 0 it is min(dmax, d + l + motion), d the largest distance of the facet's
+  // nodes from the master (flat facets through the corners), l the facet's largest extent:
+  // every point of the facet is within d + l of the master, its closest master point within
+  // that distance of it (segment_to_segment: in 3D, dmax's margin of twice the mean master facet
+  // size gave a slave facet of a refined contact zone 470 candidates on the Cattaneo sphere).
   void facet_candidates(const MasterSurface& sf, const std::vector<Index>& index, const std::vector<Vec3>& x,
-                        Real dmax, const std::vector<char>& tracked, std::vector<std::vector<Index>>& out) {
+                        Real dmax, const std::vector<char>& tracked, std::vector<std::vector<Index>>& out,
+                        Real motion = -1) {
     std::vector<Index> closest;
-    search(x, dmax, closest);
+    std::vector<Real> distance;
+    search(x, dmax, closest, &distance);
     auto box = [&](const std::vector<Index>& nodes, Vec3& lo, Vec3& hi) {
       lo = hi = x[nodes[0]];
       for (Index n : nodes) lo = lo.cwiseMin(x[n]), hi = hi.cwiseMax(x[n]);
@@ -187,8 +199,17 @@ class DeformableMaster : public Discretization {
       }
       Vec3 lo, hi;
       box(nodes, lo, hi);
-      lo.array() -= dmax;
-      hi.array() += dmax;
+      Real margin = dmax;
+      if (motion >= 0) {
+        Real d = 0;
+        for (Index n : nodes) {
+          const Index j = index[n];
+          if (j >= 0) d = std::max(d, closest[j] >= 0 ? distance[j] : dmax);
+        }
+        margin = std::min(dmax, d + (hi - lo).maxCoeff() + motion);
+      }
+      lo.array() -= margin;
+      hi.array() += margin;
       std::set<Index> seen(queue.begin(), queue.end()), accepted;
       while (!queue.empty()) {
         const Index f = queue.back();
@@ -301,16 +322,18 @@ class DeformableMaster : public Discretization {
     return relative;
   }
 
-  // The weighted-gap constraint's normal (2D): the slave surface's averaged normal at c's
-  // slave node (mortar's nodal normal), turned to point from the master towards the slave,
-  // with its variation. A node of a facet around the slave node that c does not hold yet (its
-  // points found no master: the normal depends on it, the gap does not) is appended.
-  void set_slave_normal_2d(const MasterSurface& sf, const std::vector<Vec3>& x, Constraint& c) const {
+  // The weighted-gap constraint's normal: the slave surface's averaged normal at c's slave node
+  // (2D: mortar's nodal normal; 3D: MasterSurface::node_normal_jacobian_3d), turned to point
+  // from the master towards the slave, with its variation. A node of a facet around the slave
+  // node that c does not hold yet (its points found no master: the normal depends on it, the
+  // gap does not) is appended.
+  void set_slave_normal(const MasterSurface& sf, const std::vector<Vec3>& x, Constraint& c) const {
     const int dim = dim_;
     Vec3 n;
     std::vector<Index> nn;
     MatX dn;
-    mortar_nodal_normal_2d(sf, c.slave, x, n, nn, dn);
+    if (dim == 2) mortar_nodal_normal_2d(sf, c.slave, x, n, nn, dn);
+    else sf.node_normal_jacobian_3d(c.slave, x, n, nn, dn);
     c.normal = -n;
     c.normal_jacobian.setZero(dim, c.grad.size());
     for (size_t a = 0; a < nn.size(); ++a) {
@@ -332,7 +355,7 @@ class NodeToSegment : public DeformableMaster {
  public:
   using DeformableMaster::DeformableMaster;
   std::string name() const override { return "node_to_segment"; }
-  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+  void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     std::vector<Index> facet;
     search(x, dmax, facet);
     // A node in contact keeps being tracked even if it moved beyond d_max.
@@ -375,7 +398,7 @@ class SelfNodeToSegment final : public NodeToSegment {
     std::sort(sorted_.begin(), sorted_.end());
   }
   std::string name() const override { return "self_node_to_segment"; }
-  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+  void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     const std::vector<Index> facet = closest_facing(x, dmax);
     for (size_t j = 0; j < facet.size(); ++j)
       if (facet[j] >= 0 || !(tracked[j] && candidate_[j] >= 0)) candidate_[j] = facet[j];
@@ -462,7 +485,7 @@ class NodeToNode final : public DeformableMaster {
   NodeToNode(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, int dim)
       : DeformableMaster(s, mesh, slave, dim), normal_(slave.nodes.size(), Vec3::Zero()) {}
   std::string name() const override { return "node_to_node"; }
-  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+  void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     std::vector<Index> facet;
     search(x, dmax, facet);
     for (size_t j = 0; j < facet.size(); ++j) {
@@ -546,7 +569,7 @@ class Mortar final : public DeformableMaster {
   }
   std::string name() const override { return self_ ? "self_mortar" : "mortar"; }
 
-  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
+  void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     if (self_) self_candidates(x, dmax);
     else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
   }
@@ -597,7 +620,7 @@ class Mortar final : public DeformableMaster {
       c.gap /= scale;
       c.grad /= scale;
       c.hess /= scale;
-      set_slave_normal_2d(slave_facets_, x, c);
+      set_slave_normal(slave_facets_, x, c);
       // The slip origin (after the normal, which may append nodes the slip does not involve);
       // the weight is positive wherever a segment covers the node's facets (N~ >= 0).
       if (slip_weight[j] > 0) {
@@ -716,6 +739,7 @@ class SegmentToSegment final : public DeformableMaster {
     index_.assign(mesh.num_nodes(), -1);
     for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
     candidates_.assign(slave_facets_.size(), {});
+    hits_.assign(slave_facets_.size(), {});
     for (Index e = 0; e < slave_facets_.size(); ++e)
       integration_.push_back(make_integration_facet(slave_facets_.type[e], slave_facets_.facets[e], mesh.nodes, dim_,
                                                     as.dimension == Dimension::axisymmetric, as.thickness));
@@ -723,12 +747,48 @@ class SegmentToSegment final : public DeformableMaster {
   std::string name() const override { return "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
 
-  void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) override {
-    facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
+  void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
+    facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_, motion);
+    // The facets the points project on now, for the sparse pattern (coupled_nodes).
+    const Index ne = slave_facets_.size();
+    hits_.assign(ne, {});
+#pragma omp parallel for schedule(dynamic, 8)
+    for (Index e = 0; e < ne; ++e) {
+      if (candidates_[e].empty()) continue;
+      IntegrationResult r;
+      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r);
+      hits_[e] = std::move(r.hit);
+    }
+    if (log::level() <= log::Level::debug) {
+      size_t with = 0, cand = 0, hit = 0;
+      for (Index e = 0; e < ne; ++e)
+        if (!candidates_[e].empty()) ++with, cand += candidates_[e].size(), hit += hits_[e].size();
+      log::debug("segment_to_segment: {} slave facets within reach, {:.1f} candidate and {:.1f} hit master facets each",
+                 with, double(cand) / std::max<size_t>(with, 1), double(hit) / std::max<size_t>(with, 1));
+    }
   }
 
+  // The nodes of the slave facets around the node (its normal's), and of the master facets
+  // around those its facets' points projected on at the last detection or build (one ring of
+  // master facets: room to slide before the pattern must grow). A point that moves beyond it
+  // makes the assembly miss the pattern, which is then rebuilt from the build's own hits
+  // (Analysis::assemble); the candidates alone (every master facet within reach of a slave
+  // facet, some 50 in 3D) would make the pattern, and the factorization, several times denser.
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
-    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], false, nodes);
+    const Index node = slave_.nodes[j];
+    std::set<Index> around;
+    for (Index e : slave_facets_.node_facets[node]) {
+      for (Index n : slave_facets_.facets[e]) around.insert(n);
+      const std::vector<Index>& hit = hits_[e].empty() ? candidates_[e] : hits_[e];
+      std::set<Index> ring;
+      for (Index f : hit)
+        for (Index g : master_.neighbourhood(f)) ring.insert(g);
+      for (Index f : ring)
+        for (Index m : master_.basis_nodes(f)) around.insert(m);
+    }
+    around.erase(node);
+    nodes.assign(1, node);
+    nodes.insert(nodes.end(), around.begin(), around.end());
   }
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
@@ -741,6 +801,7 @@ class SegmentToSegment final : public DeformableMaster {
       if (candidates_[e].empty()) continue;
       IntegrationResult r;
       integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r);
+      hits_[e] = r.hit;
       if (r.points == 0) continue;
       facet[e].push_back(r.first_facet);
       results[e].push_back(std::move(r));
@@ -763,14 +824,8 @@ class SegmentToSegment final : public DeformableMaster {
       c.grad /= c.weight;
       c.hess /= c.weight;
       // The slave's averaged normal, turned to point from the master to the slave, with its
-      // variation in 2D (mortar's nodal normal); in 3D its variation is not built yet
-      // (frictionless only, where enforcement does not read it).
-      if (dim_ == 2) {
-        set_slave_normal_2d(slave_facets_, x, c);
-      } else {
-        c.normal = -slave_facets_.node_normal(c.slave, x, dim_);
-        c.normal_jacobian.setZero(dim_, c.grad.size());
-      }
+      // variation (friction's tangent reads it).
+      set_slave_normal(slave_facets_, x, c);
       // The slip origin (after the normal, which may append nodes the slip does not involve).
       c.slave_coefficient = relative[j](0) / c.weight;
       c.master_weights.assign(c.nodes.size() - 1, 0.0);
@@ -783,6 +838,9 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may meet
   std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
+  // Per slave facet: the master facets its points projected on at the last detect or build
+  // (the sparse pattern's; build updates it, so a rebuilt pattern follows the sliding).
+  mutable std::vector<std::vector<Index>> hits_;
 };
 
 // A rigid analytic obstacle, moved by its own unknowns: dim translations and, when a step turns
@@ -793,7 +851,7 @@ class RigidObstacleContact final : public Discretization {
   RigidObstacleContact(const RigidObstacle& ob, const SlaveSurface& slave, int dim, int angles)
       : ob_(ob), slave_(slave), dim_(dim), angles_(angles) {}
   std::string name() const override { return "rigid_obstacle"; }
-  void detect(const std::vector<Vec3>&, Real, const std::vector<char>&) override {}
+  void detect(const std::vector<Vec3>&, Real, Real, const std::vector<char>&) override {}
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override { nodes.assign(1, slave_.nodes[j]); }
   int num_extra_dofs() const override { return dim_ + angles_; }
   void set_extra_dofs(Index first) override { first_ = first; }

@@ -36,7 +36,10 @@ class Discretization {
   virtual std::string name() const = 0;
   // Global search at positions x, within dmax of the master; tracked[j]: slave node j was
   // closed at the last accepted iterate (a discretization may keep tracking it beyond dmax).
-  virtual void detect(const std::vector<Vec3>& x, Real dmax, const std::vector<char>& tracked) = 0;
+  // `motion`: the part of dmax that is the motion expected before the next search (twice the
+  // largest nodal motion of the increment's prediction), which a discretization may use to
+  // bound its candidates more tightly than dmax (segment_to_segment).
+  virtual void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) = 0;
   // The mesh nodes whose DOFs constraint j may involve until the next detect (slave first;
   // the sparse pattern). Extra unknowns are listed by extra_dofs().
   virtual void coupled_nodes(size_t j, std::vector<Index>& nodes) const = 0;

@@ -129,11 +129,13 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
       }
     }
     if (hits[q].facet >= 0) {
+      if (std::find(out.hit.begin(), out.hit.end(), hits[q].facet) == out.hit.end()) out.hit.push_back(hits[q].facet);
       for (Index nd : master.basis_nodes(hits[q].facet)) column(nd);
       if (out.first_facet < 0) out.first_facet = hits[q].facet;
       ++out.points;
     }
   }
+  std::sort(out.hit.begin(), out.hit.end());
   const Index nn = static_cast<Index>(out.nodes.size()) * dim;
   for (int j = 0; j < ns; ++j) {
     out.grad[j].setZero(nn);

@@ -58,6 +58,7 @@ struct IntegrationResult {
   std::vector<VecX> relative;
   Index first_facet = -1;
   int points = 0;  // integration points that found the master
+  std::vector<Index> hit;  // the master facets they projected on (sorted, unique)
 };
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
                             const std::vector<Vec3>& x, int dim, IntegrationResult& out);
