@@ -268,7 +268,8 @@ void ContactInterface::count_status_changes() {
       r.last_slip = slip;
       if (r.friction_flips > s_.max_flips && r.friction_hold == StickSlip::none) {
         r.friction_hold = slip ? StickSlip::slip : StickSlip::stick;
-        newly_frozen.push_back(slave_.nodes[j]);
+        // Once per node, held in both its statuses at the same iteration.
+        if (newly_frozen.empty() || newly_frozen.back() != slave_.nodes[j]) newly_frozen.push_back(slave_.nodes[j]);
       }
     }
   }
