@@ -35,15 +35,6 @@ Vec3 MasterSurface::node_normal(Index node, const std::vector<Vec3>& x, int dim)
   return n.norm() > 0 ? Vec3(n.normalized()) : n;
 }
 
-namespace {
-// [a]x: the matrix of a x . (so that a x b = cross_matrix(a) b).
-Mat3 cross_matrix(const Vec3& a) {
-  Mat3 m;
-  m << 0, -a(2), a(1), a(2), 0, -a(0), -a(1), a(0), 0;
-  return m;
-}
-}  // namespace
-
 void MasterSurface::node_normal_jacobian_3d(Index node, const std::vector<Vec3>& x, Vec3& n, std::vector<Index>& nodes,
                                             MatX& jacobian) const {
   nodes.clear();

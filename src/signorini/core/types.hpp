@@ -20,6 +20,13 @@ using Mat6 = Eigen::Matrix<Real, 6, 6>;
 using VecX = Eigen::Matrix<Real, Eigen::Dynamic, 1>;
 using MatX = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
 
+// [v]x, the matrix of the cross product with v: cross_matrix(v) w = v x w.
+inline Mat3 cross_matrix(const Vec3& v) {
+  Mat3 m;
+  m << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
+  return m;
+}
+
 // Voigt order used throughout: [11, 22, 33, 23, 13, 12]; strains carry engineering shears.
 inline Vec6 to_voigt_stress(const Mat3& s) {
   Vec6 v;

@@ -7,16 +7,6 @@
 
 namespace signorini {
 
-namespace {
-
-Mat3 cross_matrix(const Vec3& v) {
-  Mat3 m;
-  m << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
-  return m;
-}
-
-}  // namespace
-
 void add_facet_load(const FacetLoad& load, const AnalysisSettings& settings, const std::vector<Vec3>& X,
                     const VecX& u, const DofMap& dofs, Real scale, VecX& fext, GlobalMatrix* matrix) {
   if (scale == 0 || !load.facets) return;
