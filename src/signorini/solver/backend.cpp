@@ -51,6 +51,7 @@ class SerialBackend final : public AlgebraBackend {
     if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || is_amg_solver(linear_name_))) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
+        if (condensed_.refinements() > 0) log::debug("    condensed solve: {} refinement steps", condensed_.refinements());
         return "condensed+" + condensed_.last_used();
       }
       if (is_amg_solver(linear_name_))

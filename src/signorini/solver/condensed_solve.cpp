@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "signorini/core/error.hpp"
 
 namespace signorini {
@@ -16,12 +18,23 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // a_m^T T = 0, so T^T J T u~ = T^T (r - J z0) no longer sees the multipliers. Row p of J
   // then gives dl_m = (r_p - (J dz)_p) / J_pm (Wriggers 2006, sec. 6.3, for the elimination of
   // linear constraints; here applied to the active set of each Newton iteration).
+  //
+  // Coupled rows (segment_to_segment: a slave node's weighted gap also sees the nodes of its
+  // facets, by the small off-diagonal terms of the dual basis against varying normals and the
+  // modified quadratic basis): no unknown belongs to one closed row only. Each row then takes
+  // as pivot the unknown where it dominates its column (|a_mp| >= half the closed rows'
+  // sum there); the coupling terms at the pivots (other rows' a_m'p, and the pivot rows'
+  // other multipliers) are left out of a matrix P that the elimination above solves exactly,
+  // and the step of J itself follows by iterative refinement, dz += P^-1 (r - J dz), with P's
+  // factorization (Golub & Van Loan 2013, sec. 3.5.3): a few solves when the couplings are
+  // small against the pivots; otherwise the whole system is solved instead.
   const Index n = J.rows();
   const SparseMatrix Jt = J.transpose();  // column m of Jt is row m of J
   why_not_.clear();
-  VecX z0 = VecX::Zero(n);
-  std::vector<Index> closed;
-  std::vector<int> count(n, 0);  // closed rows whose support holds the unknown
+  refinements_ = 0;
+  std::vector<Index> closed, open;
+  std::vector<int> count(n, 0);      // closed rows whose support holds the unknown
+  std::vector<Real> column(n, 0.0);  // sum over closed rows of |a_mk|
   for (Index m = 0; m < n; ++m) {
     if (!is_multiplier[m]) continue;
     bool has_u = false;
@@ -40,44 +53,78 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     }
     if (!has_u) {
       if (diag == 0) throw SolverError("a contact multiplier's row is empty: the system is singular");
-      z0(m) = r(m) / diag;
+      open.push_back(m);
       continue;
     }
     closed.push_back(m);
     for (SparseMatrix::InnerIterator it(Jt, m); it; ++it)
-      if (it.value() != 0 && it.row() != m) ++count[it.row()];
+      if (it.value() != 0 && it.row() != m) {
+        ++count[it.row()];
+        column[it.row()] += std::abs(it.value());
+      }
   }
-  // Pivots: in each closed row, the largest coefficient on an unknown no other closed row
-  // touches, whose own row carries no other closed multiplier.
-  std::vector<Index> pivot_of(n, -1);  // unknown -> its closed row
-  std::vector<Index> pivot(closed.size(), -1);
-  for (size_t c = 0; c < closed.size(); ++c) {
-    const Index m = closed[c];
-    Real amax = 0, best = 0;
-    for (SparseMatrix::InnerIterator it(Jt, m); it; ++it)
-      if (it.row() != m) amax = std::max(amax, std::abs(it.value()));
-    for (SparseMatrix::InnerIterator it(Jt, m); it; ++it) {
-      const Index k = it.row();
-      if (k == m || count[k] != 1 || std::abs(it.value()) < 0.1 * amax || std::abs(it.value()) <= best) continue;
-      if (J.coeff(k, m) == 0) continue;  // the multiplier must act on its pivot's row
-      best = std::abs(it.value());
-      pivot[c] = k;
-    }
-    if (pivot[c] < 0) {
-      why_not_ = "a closed constraint has no DOF of its own (two-pass, or a slave node that is also a master node)";
-      return false;
-    }
-    pivot_of[pivot[c]] = static_cast<Index>(c);
-  }
-  // The pivot's row must hold no other closed multiplier (else dl_m is not recovered alone).
   std::vector<char> is_closed(n, 0);
   for (Index m : closed) is_closed[m] = 1;
-  for (size_t c = 0; c < closed.size(); ++c)
-    for (SparseMatrix::InnerIterator it(Jt, pivot[c]); it; ++it)  // column p of Jt = row p of J
-      if (it.value() != 0 && is_closed[it.row()] && it.row() != closed[c]) {
-        why_not_ = "an eliminated DOF's row holds two closed multipliers";
-        return false;
+  // Exact pivots: in each closed row, the largest coefficient on an unknown no other closed
+  // row touches, whose own row carries no other closed multiplier.
+  std::vector<Index> pivot_of(n, -1);  // unknown -> its closed row
+  std::vector<Index> pivot(closed.size(), -1);
+  auto choose_pivots = [&](bool coupled) {
+    std::fill(pivot_of.begin(), pivot_of.end(), -1);
+    std::fill(pivot.begin(), pivot.end(), -1);
+    for (size_t c = 0; c < closed.size(); ++c) {
+      const Index m = closed[c];
+      Real amax = 0, best = 0;
+      for (SparseMatrix::InnerIterator it(Jt, m); it; ++it)
+        if (it.row() != m) amax = std::max(amax, std::abs(it.value()));
+      for (SparseMatrix::InnerIterator it(Jt, m); it; ++it) {
+        const Index k = it.row();
+        const Real a = std::abs(it.value());
+        if (k == m || a < 0.1 * amax || pivot_of[k] >= 0) continue;
+        if (J.coeff(k, m) == 0) continue;  // the multiplier must act on its pivot's row
+        const Real score = coupled ? a / column[k] : (count[k] == 1 ? a : 0.0);
+        if (score <= best) continue;
+        best = score;
+        pivot[c] = k;
       }
+      if (pivot[c] < 0) return false;
+      pivot_of[pivot[c]] = static_cast<Index>(c);
+    }
+    if (coupled) return true;
+    // The pivot's row must hold no other closed multiplier (else dl_m is not recovered alone).
+    for (size_t c = 0; c < closed.size(); ++c)
+      for (SparseMatrix::InnerIterator it(Jt, pivot[c]); it; ++it)  // column p of Jt = row p of J
+        if (it.value() != 0 && is_closed[it.row()] && it.row() != closed[c]) return false;
+    return true;
+  };
+  bool coupled = false;
+  if (!choose_pivots(false)) {
+    coupled = true;
+    if (!choose_pivots(true)) {
+      why_not_ =
+          "a closed constraint has no DOF of its own (two-pass, or a slave node that is also a master node), nor one "
+          "where it dominates the other closed constraints";
+      return false;
+    }
+  }
+  // P: J without the couplings at the pivots (coupled rows only; else P = J).
+  SparseMatrix P;
+  if (coupled) {
+    std::vector<Eigen::Triplet<Real, int>> kept;
+    kept.reserve(static_cast<size_t>(J.nonZeros()));
+    for (Index col = 0; col < J.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(J, col); it; ++it) {
+        const Index row = it.row();
+        if (is_closed[row] && pivot_of[col] >= 0 && closed[pivot_of[col]] != row) continue;
+        if (is_closed[col] && pivot_of[row] >= 0 && closed[pivot_of[row]] != col) continue;
+        kept.emplace_back(static_cast<int>(row), static_cast<int>(col), it.value());
+      }
+    P.resize(n, n);
+    P.setFromTriplets(kept.begin(), kept.end());
+  }
+  const SparseMatrix& A = coupled ? P : J;
+  const SparseMatrix At = coupled ? SparseMatrix(P.transpose()) : SparseMatrix();
+  const SparseMatrix& Arows = coupled ? At : Jt;
   // Reduced numbering and T. Algebraic multigrid keeps the pivots' places (their columns of
   // T empty, a decoupled diagonal added below), so that the unknowns stay in node blocks.
   const bool keep_places = solver_.wants_layout();
@@ -89,20 +136,21 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   trip.reserve(static_cast<size_t>(nr) + 16 * closed.size());
   for (Index k = 0; k < n; ++k)
     if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
+  std::vector<Real> ap(closed.size()), bp(closed.size());
   for (size_t c = 0; c < closed.size(); ++c) {
     const Index m = closed[c], p = pivot[c];
-    const Real ap = Jt.coeff(p, m);
-    z0(p) = r(m) / ap;
-    for (SparseMatrix::InnerIterator it(Jt, m); it; ++it) {
+    ap[c] = Arows.coeff(p, m);
+    bp[c] = A.coeff(p, m);
+    for (SparseMatrix::InnerIterator it(Arows, m); it; ++it) {
       const Index k = it.row();
       if (k == m || k == p || it.value() == 0) continue;
-      trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -it.value() / ap);
+      trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -it.value() / ap[c]);
     }
   }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
-  const SparseMatrix JT = J * T;
-  SparseMatrix Kr = SparseMatrix(T.transpose()) * JT;
+  const SparseMatrix AT = A * T;
+  SparseMatrix Kr = SparseMatrix(T.transpose()) * AT;
   if (keep_places && !closed.empty()) {
     // The pivots' rows and columns of Kr are empty: a diagonal of the mean magnitude there.
     Real mean = 0;
@@ -115,8 +163,6 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     Kr += D;
   }
   Kr.makeCompressed();
-  const VecX rr = T.transpose() * (r - J * z0);
-  VecX ur;
   // The reduced pattern follows the active set and the pivots: the symbolic factorization is
   // kept while the pattern is the same as at the last solve (most Newton iterations once the
   // active set has settled) and redone when it changed.
@@ -143,15 +189,75 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       solver_.set_layout(reduced);
     }
   }
-  solver_.solve(Kr, symmetric, rr, ur);
-  dz = T * ur + z0;
-  // Closed multipliers from their pivots' rows (dz holds 0 for them so far).
-  const VecX Jdz = J * dz;
-  for (size_t c = 0; c < closed.size(); ++c) {
-    const Index m = closed[c], p = pivot[c];
-    dz(m) = (r(p) - Jdz(p)) / J.coeff(p, m);
+  // out = A^-1 rhs through the elimination; the first call factorizes Kr.
+  bool factorized = false;
+  auto apply = [&](const VecX& rhs, VecX& out) {
+    VecX z0 = VecX::Zero(n);
+    for (Index m : open) z0(m) = rhs(m) / A.coeff(m, m);
+    for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
+    const VecX rr = T.transpose() * (rhs - A * z0);
+    VecX ur;
+    if (!factorized) {
+      solver_.solve(Kr, symmetric, rr, ur);
+      factorized = true;
+    } else if (!solver_.solve_again(rr, ur)) {
+      throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve");
+    }
+    out = T * ur + z0;
+    // Closed multipliers from their pivots' rows (out holds 0 for them so far).
+    const VecX Aout = A * out;
+    for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Aout(pivot[c])) / bp[c];
+  };
+  apply(r, dz);
+  if (!coupled) return true;
+  // GMRES on J x = r, right-preconditioned by P^-1 (Saad 2003, alg. 9.5), from x0 = P^-1 r.
+  const Real rnorm = r.norm();
+  VecX res = r - J * dz;
+  Real beta = res.norm();
+  if (!(beta > kRefinementTolerance * rnorm)) return true;
+  const int m = kMaxRefinements;
+  std::vector<VecX> V, Z;
+  MatX H = MatX::Zero(m + 1, m);
+  VecX cs = VecX::Zero(m), sn = VecX::Zero(m), g = VecX::Zero(m + 1);
+  g(0) = beta;
+  V.push_back(res / beta);
+  int k = 0;
+  Real err = beta;
+  for (; k < m && err > kRefinementTolerance * rnorm; ++k) {
+    VecX z;
+    apply(V[k], z);
+    ++refinements_;
+    VecX w = J * z;
+    for (int i = 0; i <= k; ++i) {
+      H(i, k) = w.dot(V[i]);
+      w -= H(i, k) * V[i];
+    }
+    H(k + 1, k) = w.norm();
+    Z.push_back(std::move(z));
+    V.push_back(H(k + 1, k) > 0 ? VecX(w / H(k + 1, k)) : VecX(w));
+    for (int i = 0; i < k; ++i) {
+      const Real t = cs(i) * H(i, k) + sn(i) * H(i + 1, k);
+      H(i + 1, k) = -sn(i) * H(i, k) + cs(i) * H(i + 1, k);
+      H(i, k) = t;
+    }
+    const Real d = std::hypot(H(k, k), H(k + 1, k));
+    cs(k) = d > 0 ? H(k, k) / d : 1;
+    sn(k) = d > 0 ? H(k + 1, k) / d : 0;
+    H(k, k) = d;
+    H(k + 1, k) = 0;
+    g(k + 1) = -sn(k) * g(k);
+    g(k) = cs(k) * g(k);
+    err = std::abs(g(k + 1));
   }
-  return true;
+  VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+  for (int i = 0; i < k; ++i) dz += y(i) * Z[i];
+  const Real final_norm = (r - J * dz).norm();
+  if (final_norm <= 1e3 * kRefinementTolerance * rnorm) return true;
+  why_not_ = fmt::format(
+      "coupled contact rows (segment_to_segment): GMRES on the condensed preconditioner stalls at {:.1e} of the "
+      "right-hand side after {} steps",
+      final_norm / rnorm, k);
+  return false;
 }
 
 }  // namespace signorini

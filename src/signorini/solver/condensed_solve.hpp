@@ -33,6 +33,10 @@ class CondensedContactSolver {
   std::string why_not() const { return why_not_; }
   // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
   int analyses() const { return analyses_; }
+  // Refinement steps of the last solve (coupled rows; 0 when the elimination is exact).
+  int refinements() const { return refinements_; }
+  static constexpr int kMaxRefinements = 30;
+  static constexpr Real kRefinementTolerance = 1e-13;  // |r - J dz| / |r|
 
  private:
   AutoLinearSolver solver_;
@@ -42,6 +46,7 @@ class CondensedContactSolver {
   Index pattern_rows_ = -1;
   std::vector<int> pattern_outer_, pattern_inner_;
   int analyses_ = 0;
+  int refinements_ = 0;
 };
 
 }  // namespace signorini
