@@ -100,6 +100,11 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   bool coupled = false;
   if (!choose_pivots(false)) {
     coupled = true;
+    if (coupled_skip_ > 0) {
+      --coupled_skip_;
+      why_not_ = "coupled contact rows (segment_to_segment, mortar), whose refined solve failed lately";
+      return false;
+    }
     if (!choose_pivots(true)) {
       why_not_ =
           "a closed constraint has no DOF of its own (two-pass, or a slave node that is also a master node), nor one "
@@ -252,7 +257,13 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
   for (int i = 0; i < k; ++i) dz += y(i) * Z[i];
   const Real final_norm = (r - J * dz).norm();
-  if (final_norm <= 1e3 * kRefinementTolerance * rnorm) return true;
+  if (final_norm <= 1e3 * kRefinementTolerance * rnorm) {
+    coupled_backoff_ = 1;
+    return true;
+  }
+  // The whole system for the next 1, 2, 4, ... solves after each failure in a row.
+  coupled_skip_ = coupled_backoff_;
+  coupled_backoff_ = std::min(2 * coupled_backoff_, 64);
   why_not_ = fmt::format(
       "coupled contact rows (segment_to_segment): GMRES on the condensed preconditioner stalls at {:.1e} of the "
       "right-hand side after {} steps",

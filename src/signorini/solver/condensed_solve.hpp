@@ -47,6 +47,7 @@ class CondensedContactSolver {
   std::vector<int> pattern_outer_, pattern_inner_;
   int analyses_ = 0;
   int refinements_ = 0;
+  int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
 };
 
 }  // namespace signorini
