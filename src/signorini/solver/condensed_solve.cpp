@@ -257,7 +257,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
   for (int i = 0; i < k; ++i) dz += y(i) * Z[i];
   const Real final_norm = (r - J * dz).norm();
-  if (final_norm <= 1e3 * kRefinementTolerance * rnorm) {
+  if (final_norm <= kRefinementAccepted * rnorm) {
     coupled_backoff_ = 1;
     return true;
   }

@@ -35,8 +35,12 @@ class CondensedContactSolver {
   int analyses() const { return analyses_; }
   // Refinement steps of the last solve (coupled rows; 0 when the elimination is exact).
   int refinements() const { return refinements_; }
-  static constexpr int kMaxRefinements = 30;
-  static constexpr Real kRefinementTolerance = 1e-13;  // |r - J dz| / |r|
+  // GMRES stops at kRefinementTolerance |r| or after kMaxRefinements steps, and its step is
+  // taken if |r - J dz| <= kRefinementAccepted |r| (a Newton step to 1e-9 of its residual
+  // leaves the Newton iterations as they are; tolerance 1e-8).
+  static constexpr int kMaxRefinements = 40;
+  static constexpr Real kRefinementTolerance = 1e-13;
+  static constexpr Real kRefinementAccepted = 1e-9;
 
  private:
   AutoLinearSolver solver_;
