@@ -217,8 +217,17 @@ TEST(Hertz, CondensedMultipliersGiveTheSameNewtonSteps) {
   // solver: {condense_contact: true} (default) eliminates the multipliers from the linear
   // solve (CHOLMOD on the displacement system); false solves the whole multiplier system
   // (UMFPACK). The Newton steps are the same, so the iterations and the answers agree.
-  for (const char* example : {"hertz_cylinder", "hertz_sphere_3d"}) {
-    const std::string deck = test::example_deck_text(example);
+  // The third case: the sphere with segment_to_segment, whose rows couple several slave nodes
+  // (the refined elimination of coupled rows, docs/contact.md).
+  for (const char* example : {"hertz_cylinder", "hertz_sphere_3d", "hertz_sphere_3d+segment_to_segment"}) {
+    const std::string name = example;
+    const bool s2s = name.find('+') != std::string::npos;
+    std::string deck = test::example_deck_text(name.substr(0, name.find('+')));
+    if (s2s) {
+      const std::string at = "    slave: SphereSurface\n";
+      ASSERT_NE(deck.find(at), std::string::npos);
+      deck.replace(deck.find(at), at.size(), at + "    discretization: segment_to_segment\n");
+    }
     test::HertzRun a = test::run_deck_text(deck, "condensed");
     test::HertzRun b = test::run_deck_text(deck + "solver: {condense_contact: false}\n", "whole");
     ASSERT_TRUE(a.summary.completed && b.summary.completed) << example;
