@@ -397,7 +397,9 @@ void register_deck_sections(Registry& r) {
                "true", ParamKind::boolean),
           text("condense_contact",
                "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
-               "one DOF of its slave node), so that Cholesky or CG applies",
+               "one DOF of its slave node; rows that couple several slave nodes, segment_to_segment and mortar, "
+               "without their couplings, the step refined by GMRES), so that Cholesky or CG applies; frictional "
+               "systems are solved whole",
                "true", ParamKind::boolean),
           text("predictor", "start each increment from the last one's displacement, extrapolated", "true",
                ParamKind::boolean),
