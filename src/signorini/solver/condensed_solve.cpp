@@ -19,15 +19,15 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // then gives dl_m = (r_p - (J dz)_p) / J_pm (Wriggers 2006, sec. 6.3, for the elimination of
   // linear constraints; here applied to the active set of each Newton iteration).
   //
-  // Coupled rows (segment_to_segment: a slave node's weighted gap also sees the nodes of its
-  // facets, by the small off-diagonal terms of the dual basis against varying normals and the
-  // modified quadratic basis): no unknown belongs to one closed row only. Each row then takes
-  // as pivot the unknown where it dominates its column (|a_mp| >= half the closed rows'
-  // sum there); the coupling terms at the pivots (other rows' a_m'p, and the pivot rows'
-  // other multipliers) are left out of a matrix P that the elimination above solves exactly,
-  // and the step of J itself follows by iterative refinement, dz += P^-1 (r - J dz), with P's
-  // factorization (Golub & Van Loan 2013, sec. 3.5.3): a few solves when the couplings are
-  // small against the pivots; otherwise the whole system is solved instead.
+  // Coupled rows (segment_to_segment and mortar: a slave node's weighted gap also sees the
+  // other nodes of its facets, through the dual basis against a normal that varies between
+  // points and, on tri6/quad8, the modified basis): no unknown belongs to one closed row only.
+  // Each row then takes as pivot the unknown where it dominates its column (the largest
+  // |a_mp| / sum over closed rows of |a_m'p|); the couplings at the pivots (other rows' a_m'p,
+  // and the pivot rows' other multipliers) are left out of a matrix P that the elimination
+  // above solves exactly, and GMRES on J, right-preconditioned by P^-1 (P's factorization
+  // reused), gives J's step. If GMRES does not get there, the whole system is solved instead
+  // (plain refinement, dz += P^-1 (r - J dz), diverged on tri6).
   const Index n = J.rows();
   const SparseMatrix Jt = J.transpose();  // column m of Jt is row m of J
   why_not_.clear();
