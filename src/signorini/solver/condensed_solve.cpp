@@ -219,7 +219,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   const Real rnorm = r.norm();
   VecX res = r - J * dz;
   Real beta = res.norm();
-  if (!(beta > kRefinementTolerance * rnorm)) return true;
+  if (!(beta > kRefinementTolerance * rnorm)) {
+    coupled_backoff_ = 1;
+    return true;
+  }
   const int m = kMaxRefinements;
   std::vector<VecX> V, Z;
   MatX H = MatX::Zero(m + 1, m);
