@@ -35,7 +35,9 @@ TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurfaceLagrangeFinishesInOneIncremen
   const IncrementRecord& inc = s.increments[0];
   EXPECT_EQ(inc.cutbacks, 0);
   EXPECT_LE(inc.iterations, 25);  // stagnation is accepted at the end of the iteration budget
-  if (inc.stagnated) EXPECT_LE(inc.stagnated_residual, 1e-4);
+  if (inc.stagnated) {
+    EXPECT_LE(inc.stagnated_residual, 1e-4);
+  }
   // The load CalculiX computes on this deck (results/sbs.md, h3d_coarse_s2s: 2322.5 N) within
   // 0.3 %: penalty K = 1e8 there, exact non-penetration here (measured +0.13 %).
   const Real P = 4 * r.reaction;
@@ -71,7 +73,9 @@ TEST(CalculixDeckLong, Hertz3dTet4PenaltyAndAugmentedLagrangianFinishInOneIncrem
     ASSERT_EQ(s.increments.size(), 1u) << method;
     const IncrementRecord& inc = s.increments[0];
     EXPECT_EQ(inc.cutbacks, 0) << method;
-    if (inc.stagnated) EXPECT_LE(inc.stagnated_residual, 1e-4) << method;
+    if (inc.stagnated) {
+      EXPECT_LE(inc.stagnated_residual, 1e-4) << method;
+    }
     const Real P = 4 * r.reaction;
     EXPECT_NEAR(P, 2424.9, 5e-3 * 2424.9) << method;
     const Real peak = signorini::test::peak_pressure(r);

@@ -97,7 +97,7 @@ TEST(Interrupt, DisplacementsLargerThanTheModelAreReported) {
   const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "cantilever_3d" / "cantilever_3d.yaml";
   std::string deck = read(src);
   deck.insert(deck.find("file: ") + 6, (src.parent_path() / "").string());
-  for (const std::string& load : {"-1", "-5e30"}) {
+  for (const std::string load : {"-1", "-5e30"}) {
     std::string d = deck;
     d.replace(d.find("traction: [0, -1, 0]"), 20, "traction: [0, " + load + ", 0]");
     const fs::path p = fs::temp_directory_path() / ("signorini_oversized_" + std::to_string(::getpid()) + ".yaml");

@@ -252,10 +252,15 @@ void ContactInterface::count_status_changes() {
   // Chattering guard, on accepted iterates only: a node whose status keeps flipping within
   // the increment is held in its current status.
   std::vector<Index> newly_frozen;
+  iterate_status_ = {};
   for (size_t j = 0; j < state_.active.size(); ++j) {
     NodeRecord& r = nodes_[j];
     const bool closed = state_.active[j];
-    if (closed != r.last_closed) ++r.flips;
+    iterate_status_.closed += closed;
+    if (closed != r.last_closed) {
+      ++(closed ? iterate_status_.newly_closed : iterate_status_.newly_opened);
+      ++r.flips;
+    }
     r.last_closed = closed;
     if (r.flips > s_.max_flips && r.hold == Hold::none) {
       r.hold = closed ? Hold::closed : Hold::open;

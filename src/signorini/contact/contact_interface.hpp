@@ -95,6 +95,11 @@ class ContactInterface {
   int max_augmentations() const { return augmented() ? s_.max_uzawa : 0; }
   // After an accepted Newton iterate: count status changes (chattering guard).
   void count_status_changes();
+  // At the last accepted iterate: closed slave nodes, and how many closed and opened in it.
+  struct IterateStatus {
+    Index closed = 0, newly_closed = 0, newly_opened = 0;
+  };
+  const IterateStatus& iterate_status() const { return iterate_status_; }
   // After convergence: a node held closed that ends in tension is held open instead
   // (returns how many; Newton must go on then).
   Index fix_held_nodes();
@@ -163,6 +168,7 @@ class ContactInterface {
   ConstraintSet constraints_;
   EnforcementOutput state_;       // of the last assembly
   std::vector<NodeRecord> nodes_;  // per slave node
+  IterateStatus iterate_status_;
   Index frozen_reported_ = 0;
   std::vector<char> is_slave_;  // per mesh node: a slave node of this pair (pass)
   bool pressure_reported_ = false;  // set_reported_pressure was called (else the multipliers are reported)

@@ -931,10 +931,15 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       rec.energies.push_back(energy);
       rec.iterations = it;
       const int krylov = rec.krylov_iterations.empty() ? 0 : rec.krylov_iterations.back();
-      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}{}{}", it, rel, energy,
+      std::string statuses_text;
+      for (auto& c : contacts_) {
+        const auto& is = c->iterate_status();
+        statuses_text += fmt::format("  [{} closed +{} -{}]", is.closed, is.newly_closed, is.newly_opened);
+      }
+      log::info("    iter {:2d}  |R|/F = {:.3e}  |du.R| = {:.3e}{}{}{}{}", it, rel, energy,
                 alpha < 1 ? fmt::format("  (line search {:.3g})", alpha) : std::string(),
                 ptc_shift_ > 0 ? fmt::format("  (shift {:.3g} D)", ptc_shift_ / d_mean) : std::string(),
-                krylov > 0 ? fmt::format("  [{} Krylov iterations]", krylov) : std::string());
+                krylov > 0 ? fmt::format("  [{} Krylov iterations]", krylov) : std::string(), statuses_text);
       if (!std::isfinite(st.rnorm)) {
         why = "residual is not finite";
         return false;
