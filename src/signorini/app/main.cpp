@@ -48,7 +48,11 @@ void print_model(const Model& m, const DeckReport& rep) {
   }
   for (auto& c : m.contacts) {
     std::string enf = c.method;
-    if (c.method != "lagrange") enf += c.penalty > 0 ? fmt::format(" (penalty {:g})", c.penalty) : " (penalty auto)";
+    if (c.method == "nitsche")
+      enf += fmt::format(" (theta {}, gamma0 {:g}{})", c.nitsche_theta, c.nitsche_gamma > 0 ? c.nitsche_gamma : kNitscheGamma,
+                         c.nitsche_gamma > 0 ? "" : " auto");
+    else if (c.method != "lagrange")
+      enf += c.penalty > 0 ? fmt::format(" (penalty {:g})", c.penalty) : " (penalty auto)";
     const std::string fr = c.friction == "coulomb" ? fmt::format(", Coulomb mu = {:g}", c.friction_parameter)
                            : c.friction == "tresca" ? fmt::format(", Tresca bound {:g}", c.friction_parameter)
                                                     : ", frictionless";

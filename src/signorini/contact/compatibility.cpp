@@ -84,6 +84,19 @@ const std::vector<Rule>& rules() {
                             "in stick while the surface slides (the 3D sliding patch test); make the linear side "
                             "master or use node_to_segment");
        }},
+      {"nitsche other than segment_to_segment",
+       [](const ContactCombination& c) { return c.method == "nitsche" && c.discretization != "segment_to_segment"; },
+       "enforcement.method",
+       [](const ContactCombination& c) {
+         return "nitsche works on integration points: it needs discretization: segment_to_segment (not " +
+                c.discretization + ")";
+       }},
+      {"nitsche with friction",
+       [](const ContactCombination& c) { return c.method == "nitsche" && c.friction != "none"; }, "friction",
+       [](const ContactCombination&) {
+         return std::string("nitsche is frictionless so far: use lagrange, augmented_lagrangian or penalty with "
+                            "friction");
+       }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {
          return c.discretization == "rigid_sphere" &&
@@ -151,7 +164,7 @@ const std::vector<ElementType> kFacets3D = {ElementType::tri3, ElementType::tri6
                                             ElementType::quad9};
 const std::vector<std::string> kDiscretizations = {"node_to_segment", "node_to_node", "mortar", "segment_to_segment",
                                                    "rigid_plane", "rigid_cylinder", "rigid_sphere"};
-const std::vector<std::string> kMethods = {"lagrange", "augmented_lagrangian", "penalty"};
+const std::vector<std::string> kMethods = {"lagrange", "augmented_lagrangian", "penalty", "nitsche"};
 const std::vector<std::string> kFrictions = {"none", "coulomb", "tresca"};
 const std::vector<std::string> kSmoothings = {"none", "hermite"};
 
@@ -259,7 +272,7 @@ std::string contact_compatibility_text() {
   s += "  analysis:        plane strain, plane stress, axisymmetric, 3D\n";
   s += "  facets:          line2, line3 (2D); tri3, tri6, quad4, quad8, quad9 (3D)\n";
   s += "  discretization:  node_to_segment (passes 1 or 2), node_to_node, mortar, segment_to_segment, rigid plane / cylinder / sphere\n";
-  s += "  enforcement:     lagrange, augmented_lagrangian, penalty\n";
+  s += "  enforcement:     lagrange, augmented_lagrangian, penalty, nitsche\n";
   s += "  friction:        none, coulomb, tresca\n";
   s += "  smoothing:       none, hermite\n";
   s += "  self-contact:    no, yes (one surface: master and slave facets the same)\n";

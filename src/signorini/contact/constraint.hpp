@@ -51,4 +51,28 @@ struct Constraint {
 
 using ConstraintSet = std::vector<Constraint>;
 
+// One integration point of a slave facet that found the master (segment_to_segment for
+// Nitsche's method, enforcement/enforcement.hpp): its gap and the gap's variations, and the
+// slave body's normal pressure p = -n.sigma.n at the point from the stress of the cell that
+// owns the facet (fem/boundary_traction.hpp) with its gradient.
+struct PointConstraint {
+  Index facet = -1;    // slave facet
+  Real weight = 0;     // quadrature weight times the reference area element (x thickness or 2 pi r)
+  Real gap = 0;
+  std::vector<Index> nodes;  // the facet's nodes (facet_nodes of them), the master nodes, the cell's other nodes
+  int facet_nodes = 0;
+  VecX grad;                 // d gap / d x over `nodes` (dim each; zero on the cell's other nodes)
+  MatX hess;                 // d2 gap / d x2 over the first gap_nodes of `nodes` (the others': zero)
+  int gap_nodes = 0;
+  Real pressure = 0;         // p = -n.sigma.n (compression positive)
+  VecX pressure_grad;        // dp / du over `nodes`
+  Real stiffness = 0;        // Nitsche's parameter 1/gamma = gamma0 E / h (pressure per length)
+  // Per slave node of the facet (index into the pair's slave nodes): N+_j(xi_q) weight / w+_j,
+  // N+ = max(N~, 0) the positive part of the modified basis and w+_j its integral over the
+  // node's facets: the share of the point's pressure in node j's reported pressure, a
+  // positive-weighted average (the dual basis, whose functions change sign, gave negative
+  // pressures next to the edge of the contact zone).
+  std::vector<std::pair<Index, Real>> shares;
+};
+
 }  // namespace signorini

@@ -42,7 +42,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   discretization_ = make_discretization(s_, mesh, slave_, as);
   is_slave_.assign(mesh.num_nodes(), 0);
   for (Index n : slave_.nodes) is_slave_[n] = 1;
-  enforcement_ = make_enforcement(s_.method);
+  enforcement_ = make_enforcement(s_.method, s_.nitsche_theta, s_.nitsche_exact_tangent);
   // Mean edge of the slave and master surfaces (reference configuration).
   auto mean_edge = [&](const std::string& set) {
     const std::vector<Real> edges = facet_edge_lengths(mesh.facet_sets.at(set), mesh.nodes);
@@ -241,6 +241,7 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   in.dim = dim_;
   in.nodes = &nodes_;
   in.multiplier_offset = offset_;
+  in.points = discretization_->integration_points();
   if (frictional()) {
     in.friction = friction_.get();
     in.fixed = fixed;
@@ -262,6 +263,7 @@ void ContactInterface::count_status_changes() {
       ++r.flips;
     }
     r.last_closed = closed;
+    if (!enforcement_->node_statuses()) continue;
     if (r.flips > s_.max_flips && r.hold == Hold::none) {
       r.hold = closed ? Hold::closed : Hold::open;
       newly_frozen.push_back(slave_.nodes[j]);
@@ -440,6 +442,7 @@ Vec3 ContactInterface::slave_force() const {
   // nodes). Friction: -w D_k^T t on each slave node k of the constraint (D_k = dd/dx_k; the
   // slave node's is I for node-to-segment, so the slave is pulled by -t per unit area). In
   // self-contact the master nodes are slave nodes too, and the sum is zero by balance.
+  if (state_.has_slave_force) return state_.slave_force;
   Vec3 f = Vec3::Zero();
   for (size_t j = 0; j < constraints_.size() && j < state_.pressure.size(); ++j) {
     const Constraint& c = constraints_[j];

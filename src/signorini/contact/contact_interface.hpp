@@ -72,6 +72,11 @@ class ContactInterface {
 
   // Meshed rigid bodies that turn (may be null: none); the analysis owns it.
   void set_rigid_rotations(const RigidRotations* r) { rotations_ = r; }
+  // Nitsche's method: the enforcement needs the bodies' boundary traction, which the analysis
+  // gives before the first detect (fem/boundary_traction.hpp).
+  bool needs_boundary_traction() const { return enforcement_->needs_points(); }
+  bool full_newton_steps() const { return enforcement_->full_steps(); }
+  void set_boundary_traction(const BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
   // DOF groups the constraints may couple (for the sparse pattern).

@@ -17,6 +17,9 @@ struct RigidObstacle {
   bool inside = false;           // the body is inside the cylinder or sphere (a hole)
 };
 
+// Nitsche's method: the default gamma0 of its parameter gamma0 E / h (docs/contact.md).
+constexpr Real kNitscheGamma = 10;
+
 struct ContactPairSettings {
   std::string name;
   std::string master;                             // facet set (empty for a rigid obstacle)
@@ -29,7 +32,7 @@ struct ContactPairSettings {
   std::string discretization = "node_to_segment"; // node_to_segment, node_to_node
   std::string smoothing = "none";                 // none, hermite (2D: C1 master curve through the nodes)
   int passes = 1;                                 // 2: each surface is also slave of the other
-  std::string method = "lagrange";                // lagrange (semi-smooth Newton), augmented_lagrangian, penalty
+  std::string method = "lagrange";                // lagrange (semi-smooth Newton), augmented_lagrangian, penalty, nitsche
   Real penalty = 0;                               // 0: automatic, penalty_factor * E / h
   Real penalty_factor = 10;
   std::string search = "bucket_grid";             // bucket_grid, bvh, all_to_all
@@ -38,6 +41,9 @@ struct ContactPairSettings {
   int max_flips = 6;                              // status changes of a node in one increment before it is frozen
   Real gap_tolerance = 0;                         // augmented Lagrangian: 0 = 1e-3 x mean slave facet size
   int max_uzawa = 30;                             // augmented Lagrangian: updates per increment
+  Real nitsche_gamma = 0;                         // nitsche: gamma0 of the parameter gamma0 E / h (0: kNitscheGamma)
+  int nitsche_theta = 1;                          // nitsche: 1 symmetric, 0 incomplete, -1 skew-symmetric
+  bool nitsche_exact_tangent = false;             // nitsche: the whole P hess g in the matrix (tests; enforcement.cpp)
   std::string friction = "none";                  // friction law: none, coulomb, tresca
   Real friction_parameter = 0;                    // coulomb: mu; tresca: the bound on |t|
   Real tangential_penalty = 0;                    // 0: automatic, the normal penalty of the node

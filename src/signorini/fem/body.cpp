@@ -131,13 +131,7 @@ void Body::element(ElementType type, const std::vector<Vec3>& Xe, const VecX& ue
       const Real g0 = G(a, 0), g1 = G(a, 1), g2 = dim == 3 ? G(a, 2) : 0.0;
       for (int i = 0; i < dim; ++i) {
         const int col = a * dim + i;
-        const Real f0 = Fb(i, 0), f1 = Fb(i, 1), f2 = Fb(i, 2);
-        B(0, col) = f0 * g0;
-        B(1, col) = f1 * g1;
-        B(2, col) = f2 * g2;
-        B(3, col) = f1 * g2 + f2 * g1;
-        B(4, col) = f0 * g2 + f2 * g0;
-        B(5, col) = f0 * g1 + f1 * g0;
+        strain_column(B.col(col), Fb(i, 0), Fb(i, 1), Fb(i, 2), g0, g1, g2);
       }
       if (axi) B(2, a * dim) += Fb(2, 2) * N(a) / R;
     }

@@ -26,6 +26,19 @@ struct CellResults {
   std::vector<Real> von_mises;
 };
 
+// One column of the strain-displacement matrix (Voigt, engineering shears) for the DOF of a
+// node along direction i: delta E = sym(F^T delta H), with (f0, f1, f2) row i of F (I in
+// small strain) and (g0, g1, g2) the node's shape function gradient.
+template <class Column>
+inline void strain_column(Column&& b, Real f0, Real f1, Real f2, Real g0, Real g1, Real g2) {
+  b(0) = f0 * g0;
+  b(1) = f1 * g1;
+  b(2) = f2 * g2;
+  b(3) = f1 * g2 + f2 * g1;
+  b(4) = f0 * g2 + f2 * g0;
+  b(5) = f0 * g1 + f1 * g0;
+}
+
 class Body {
  public:
   // A null material makes the body rigid.

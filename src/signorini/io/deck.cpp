@@ -782,6 +782,13 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
       cs.max_flips = static_cast<int>(e.number(es, "max_flips"));
       if (e.has("gap_tolerance")) cs.gap_tolerance = auto_or_positive(e.child("gap_tolerance"));
       cs.max_uzawa = static_cast<int>(e.number(es, "max_uzawa"));
+      if (e.has("gamma")) cs.nitsche_gamma = auto_or_positive(e.child("gamma"));
+      const Real theta = e.number(es, "theta");
+      if (theta != 1 && theta != 0 && theta != -1) e.child("theta").fail("theta is 1 (symmetric), 0 or -1");
+      cs.nitsche_theta = static_cast<int>(theta);
+      if (cs.method != "nitsche")
+        for (const char* k : {"gamma", "theta"})
+          if (e.has(k)) e.child(k).fail(std::string("'") + k + "' goes with method: nitsche");
     }
     if (c.has("friction")) {
       Node fn = c.child("friction");
@@ -862,6 +869,16 @@ void check_and_add_pair(const Node& c, ContactPairSettings cs, Model& m) {
       if (cs.passes == 2) make_slave_surface(m.mesh, cs.master, m.settings);
     } catch (const Error& e) {
       c.fail(e.what());
+    }
+    // Nitsche's method reads the bodies' stress at the contact surface: small strain, elastic.
+    if (cs.method == "nitsche") {
+      const Node at = c.child("enforcement").child("method");
+      if (m.settings.finite_strain)
+        at.fail("nitsche is available in small strain only (analysis.kinematics: small_strain)");
+      for (auto& b : m.bodies)
+        if (!b->rigid() && b->material().history_size() > 0)
+          at.fail("nitsche needs bodies without history (elastic): body '" + b->name() + "' is " +
+                  b->material().model());
     }
     m.contacts.push_back(cs);
   }

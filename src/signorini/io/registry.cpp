@@ -349,15 +349,20 @@ void register_deck_sections(Registry& r) {
   r.add({"deck", "enforcement", "How the contact constraints are enforced.",
          {choice("method",
                  "lagrange: multipliers, semi-smooth Newton, exact non-penetration; augmented_lagrangian: penalty "
-                 "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>",
-                 {"lagrange", "augmented_lagrangian", "penalty"}, "lagrange"),
+                 "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>; "
+                 "nitsche: Nitsche's method on segment_to_segment's integration points (the slave body's stress "
+                 "gives the pressure; small strain, elastic bodies, frictionless)",
+                 {"lagrange", "augmented_lagrangian", "penalty", "nitsche"}, "lagrange"),
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),
           number("penalty_factor", "factor of the automatic penalty", "10", 0, INFINITY, true),
           number("max_flips", "status changes (open/closed, stick/slip) of a node in one increment before it is held in its status", "6", 1, 1000),
           text("gap_tolerance", "augmented_lagrangian: largest penetration accepted, or auto = 1e-3 x mean slave "
                                 "facet size", "auto", ParamKind::any),
-          number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000)}});
+          number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000),
+          text("gamma", "nitsche: gamma0 of the parameter gamma0 E / h (E the slave body's modulus, h its facet size "
+                        "over the facet's order), or auto = 10", "auto", ParamKind::any),
+          number("theta", "nitsche: 1 symmetric (Cholesky), 0 incomplete, -1 skew-symmetric", "1", -1, 1)}});
   r.add({"deck", "hardening", "Hardening of j2_plasticity (material key 'hardening').",
          {opt(text("isotropic", "{type: linear, H: ...} or {type: voce, saturation: ..., rate: ..., H: ...} (see "
                                 "'describe isotropic_hardening')", std::nullopt, ParamKind::any)),

@@ -133,6 +133,18 @@ Analysis::Analysis(Model& model)
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
+  // Nitsche's method: the deformable bodies' cells give the pressure at the slave facets.
+  for (auto& c : contacts_)
+    if (c->needs_boundary_traction()) {
+      if (!boundary_traction_) {
+        std::vector<BoundaryTraction::Cells> cells;
+        for (auto& b : model.bodies)
+          if (!b->rigid())
+            for (const ElementBlock& blk : b->blocks()) cells.push_back({&blk, &b->material()});
+        boundary_traction_ = std::make_unique<BoundaryTraction>(std::move(cells), model.mesh.nodes, model.settings);
+      }
+      c->set_boundary_traction(boundary_traction_.get());
+    }
   // Meshed rigid bodies that turn: an angle each about the first reference node in plane
   // problems, a rotation vector in 3D; contact reaches them through the chain rule
   // (RigidRotations).
@@ -825,13 +837,14 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
   NewtonSettings ns = model_.newton;
   ptc_shift_ = 0;
   // The residual norm is no merit function for the semi-smooth Newton method of contact
-  // multipliers: a line search on it stalls the active-set updates, so steps that change the
+  // multipliers (and of Nitsche's method, Enforcement::full_steps): a line search on it
+  // stalls the active-set updates, so steps that change the
   // active set are full; the others are searched (line_search's `statuses`).
   // Only for bodies whose material has history (plasticity): there the material's own kinks
   // (loading/unloading) make full steps overshoot; with elastic bodies full steps are the
   // method's (a search there slowed frictional cases from 8 to 11 iterations per increment).
-  bool multipliers = false, history = false;
-  for (auto& c : contacts_) multipliers = multipliers || c->uses_multipliers();
+  bool multipliers = false, history = false;  // multipliers: full semi-smooth steps
+  for (auto& c : contacts_) multipliers = multipliers || c->full_newton_steps();
   for (const auto& b : model_.bodies) history = history || (!b->rigid() && b->material().history_size() > 0);
   const bool within_active_set = multipliers && history && ns.line_search;
   if (multipliers) ns.line_search = false;

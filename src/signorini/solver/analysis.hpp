@@ -11,6 +11,7 @@
 
 #include "signorini/contact/contact_interface.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/fem/boundary_traction.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
 #include "signorini/fem/model.hpp"
@@ -224,6 +225,7 @@ class Analysis {
   std::vector<FacetLoad> facet_loads_cache_;
   int step_ = 0;
   std::vector<std::unique_ptr<ContactInterface>> contacts_;
+  std::unique_ptr<BoundaryTraction> boundary_traction_;  // Nitsche's method: the bodies' stress at their boundary
   std::vector<QuadratureHistory> history_;  // per body: the material's internal variables
   std::vector<const ElementBlock*> cells_;
   std::vector<std::vector<Index>> couplings_;

@@ -9,6 +9,7 @@
 #include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/node_to_segment.hpp"
 #include "signorini/contact/discretization/segment_to_segment.hpp"
+#include "signorini/fem/boundary_traction.hpp"
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
 #include "signorini/core/error.hpp"
@@ -99,6 +100,10 @@ class BoxGrid {
 };
 
 }  // namespace
+
+void Discretization::set_boundary_traction(const BoundaryTraction*) {
+  throw Error(name() + " does not use the bodies' boundary traction (Nitsche's method needs segment_to_segment)");
+}
 
 SlipOrigin Discretization::origin(const Constraint& c, const Vec3&, const VecX&) const {
   // A deformable master: the master point as the combination of master nodes that c found.
@@ -743,9 +748,43 @@ class SegmentToSegment final : public DeformableMaster {
     for (Index e = 0; e < slave_facets_.size(); ++e)
       integration_.push_back(make_integration_facet(slave_facets_.type[e], slave_facets_.facets[e], mesh.nodes, dim_,
                                                     as.dimension == Dimension::axisymmetric, as.thickness));
+    gamma0_ = s.nitsche_gamma > 0 ? s.nitsche_gamma : kNitscheGamma;
   }
   std::string name() const override { return "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
+
+  void set_boundary_traction(const BoundaryTraction* t) override {
+    traction_ = t;
+    cell_ = t->locate(slave_facets_.facets);
+    cell_nodes_.assign(cell_.size(), {});
+    for (size_t e = 0; e < cell_.size(); ++e) {
+      if (cell_[e] < 0) {
+        std::string nodes;
+        for (Index n : slave_facets_.facets[e]) nodes += (nodes.empty() ? "" : ", ") + std::to_string(n);
+        throw Error("Nitsche's method needs the slave body's stress, but slave facet " + std::to_string(e) +
+                    " (node indices " + nodes + ") belongs to no cell of a deformable body");
+      }
+      cell_nodes_[e] = t->cell_nodes(cell_[e]);
+    }
+    // Nitsche's parameter per slave facet: gamma0 E / h, h the owning cell's height over the
+    // facet (its volume over the facet's area) over the order (the trace inequality's constant
+    // grows with the cell's aspect and the order).
+    facet_size_.assign(cell_.size(), 0);
+    for (size_t e = 0; e < cell_.size(); ++e)
+      facet_size_[e] = t->height(cell_[e], slave_facets_.facets[e], slave_facets_.type[e]) /
+                       element_info(slave_facets_.type[e]).order;
+    // The reported nodal pressure: the points' [P]_+ averaged with the positive part of the
+    // modified basis, N+_j = max(N~_j, 0) (N~ itself is negative in places on tri6 and quad8).
+    positive_weight_.assign(slave_.nodes.size(), 0.0);
+    for (size_t e = 0; e < integration_.size(); ++e) {
+      const IntegrationFacet& f = integration_[e];
+      for (size_t q = 0; q < f.Nt.size(); ++q)
+        for (size_t j = 0; j < f.nodes.size(); ++j)
+          if (index_[f.nodes[j]] >= 0)
+            positive_weight_[index_[f.nodes[j]]] += std::max<Real>(f.Nt[q](static_cast<Index>(j)), 0) * f.weight[q];
+    }
+  }
+  const std::vector<PointConstraint>* integration_points() const override { return traction_ ? &points_ : nullptr; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_, motion);
@@ -785,6 +824,9 @@ class SegmentToSegment final : public DeformableMaster {
         for (Index g : master_.neighbourhood(f)) ring.insert(g);
       for (Index f : ring)
         for (Index m : master_.basis_nodes(f)) around.insert(m);
+      // Nitsche: the point's traction couples the cell's nodes with the master's.
+      if (traction_)
+        for (Index n : cell_nodes_[e]) around.insert(n);
     }
     around.erase(node);
     nodes.assign(1, node);
@@ -796,15 +838,23 @@ class SegmentToSegment final : public DeformableMaster {
     const Index ne = slave_facets_.size();
     std::vector<std::vector<IntegrationResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
+    std::vector<std::vector<PointConstraint>> points(traction_ ? ne : 0);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
       IntegrationResult r;
-      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r);
+      std::vector<IntegrationPointGap> pg;
+      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, traction_ ? &pg : nullptr);
       hits_[e] = r.hit;
       if (r.points == 0) continue;
+      if (traction_) nitsche_points(e, r, pg, x, points[e]);
       facet[e].push_back(r.first_facet);
       results[e].push_back(std::move(r));
+    }
+    if (traction_) {
+      points_.clear();
+      for (auto& v : points)
+        for (auto& p : v) points_.push_back(std::move(p));
     }
     gather(slave_facets_, index_, results, facet, out);
     // Friction's slip origin: the weighted relative positions gathered over each constraint's
@@ -834,8 +884,60 @@ class SegmentToSegment final : public DeformableMaster {
   }
 
  private:
+  // Nitsche's integration points of slave facet e: the points' gaps (over r.nodes) with the
+  // cell's other nodes appended, the slave body's normal pressure and its gradient, the
+  // parameter and the shares of the nodal pressures.
+  void nitsche_points(Index e, const IntegrationResult& r, const std::vector<IntegrationPointGap>& pg, const std::vector<Vec3>& x,
+                      std::vector<PointConstraint>& out) const {
+    const IntegrationFacet& f = integration_[e];
+    const int ns = static_cast<int>(f.nodes.size());
+    std::vector<Index> nodes = r.nodes;
+    for (Index n : cell_nodes_[e])
+      if (std::find(nodes.begin(), nodes.end(), n) == nodes.end()) nodes.push_back(n);
+    const Index m = static_cast<Index>(nodes.size()) * dim_;
+    const Index mr = static_cast<Index>(r.nodes.size()) * dim_;
+    // Where each cell node sits in `nodes`.
+    std::vector<Index> at;
+    for (Index n : cell_nodes_[e]) at.push_back(std::find(nodes.begin(), nodes.end(), n) - nodes.begin());
+    const Real eps = gamma0_ * traction_->stiffness(cell_[e]) / facet_size_[e];
+    VecX gcell;
+    for (const IntegrationPointGap& g : pg) {
+      PointConstraint pc;
+      pc.facet = e;
+      pc.weight = f.weight[g.q];
+      pc.gap = g.gap;
+      pc.nodes = nodes;
+      pc.facet_nodes = ns;
+      pc.grad = VecX::Zero(m);
+      pc.grad.head(mr) = g.grad;
+      pc.hess = g.hess;
+      pc.gap_nodes = static_cast<int>(r.nodes.size());
+      traction_->normal_pressure(cell_[e], f.nodes, f.N[g.q], f.normal[g.q], x, pc.pressure, gcell);
+      pc.pressure_grad = VecX::Zero(m);
+      for (size_t a = 0; a < at.size(); ++a)
+        pc.pressure_grad.segment(at[a] * dim_, dim_) = gcell.segment(static_cast<Index>(a) * dim_, dim_);
+      pc.stiffness = eps;
+      for (int j = 0; j < ns; ++j) {
+        const Index sj = index_[f.nodes[j]];
+        const Real np = std::max<Real>(f.Nt[g.q](j), 0);
+        if (sj >= 0 && np > 0 && positive_weight_[sj] > 0)
+          pc.shares.push_back({sj, np * f.weight[g.q] / positive_weight_[sj]});
+      }
+      out.push_back(std::move(pc));
+    }
+  }
+
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
+  // Nitsche's method: the boundary traction, per slave facet the owning cell (handle), its
+  // nodes and the facet's size h, gamma0, and the integration points of the last build.
+  const BoundaryTraction* traction_ = nullptr;
+  std::vector<Index> cell_;
+  std::vector<std::vector<Index>> cell_nodes_;
+  std::vector<Real> facet_size_;
+  std::vector<Real> positive_weight_;  // per slave node: int max(N~_j, 0) dA0 (the reported pressure's average)
+  Real gamma0_ = 0;
+  mutable std::vector<PointConstraint> points_;
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may meet
   std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
   // Per slave facet: the master facets its points projected on at the last detect or build

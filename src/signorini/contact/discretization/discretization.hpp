@@ -30,6 +30,8 @@ struct SlipOrigin {
   Vec3 point = Vec3::Zero();                  // rigid obstacle: the point in the obstacle's frame
 };
 
+class BoundaryTraction;
+
 class Discretization {
  public:
   virtual ~Discretization() = default;
@@ -64,6 +66,11 @@ class Discretization {
   // Friction kinematics of c from its origin: d = x_s - x_0 and D = dd/dz (Constraint::slip,
   // slip_jacobian); origin nodes c does not involve yet are appended to it.
   virtual void add_slip(const SlipOrigin& o, const std::vector<Vec3>& x, const VecX& z, Constraint& c) const;
+  // Nitsche's method (segment_to_segment): the bodies' boundary traction, set before the
+  // first detect (throws Error when a discretization cannot use it or a slave facet has no
+  // owning cell), and the integration points of the last build (null: none).
+  virtual void set_boundary_traction(const BoundaryTraction*);
+  virtual const std::vector<PointConstraint>* integration_points() const { return nullptr; }
 };
 
 // The discretization the settings name (a rigid obstacle when s.rigid), for the given slave

@@ -55,6 +55,8 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
     Real da = (dim == 2 ? a1.norm() : a1.cross(a2).norm()) * q.weight;
     if (axisymmetric) da *= 2 * std::numbers::pi * x(0);
     else if (dim == 2) da *= thickness;
+    Vec3 nq = dim == 2 ? Vec3(a1(1), -a1(0), 0) : a1.cross(a2);
+    f.normal.push_back(nq.norm() > 0 ? Vec3(nq / nq.norm()) : nq);
     modified_shape_functions(type, N, Ntq);
     M += Ntq * Ntq.transpose() * da;
     D += Ntq * da;
@@ -70,7 +72,9 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
 }
 
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
-                            const std::vector<Vec3>& x, int dim, IntegrationResult& out) {
+                            const std::vector<Vec3>& x, int dim, IntegrationResult& out,
+                            std::vector<IntegrationPointGap>* points) {
+  if (points) points->clear();
   const int ns = static_cast<int>(f.nodes.size());
   out = IntegrationResult{};
   out.nodes = f.nodes;
@@ -172,6 +176,7 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b)
         Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((a + 1) * dim, (b + 1) * dim, dim, dim);
+    if (points) points->push_back({static_cast<int>(q), h.fp.gap, gq, Hq});
     master.basis(h.facet).eval(h.fp.xi, Nm, dNm);
     for (int j = 0; j < ns; ++j) {
       const Real wr = f.Nt[q](j) * f.weight[q];

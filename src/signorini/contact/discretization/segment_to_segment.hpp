@@ -27,6 +27,7 @@ struct IntegrationFacet {
   std::vector<VecX> phi;    // per point: the dual shape functions
   std::vector<VecX> Nt;     // per point: the modified basis N~ (friction's averaging weights)
   std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)
+  std::vector<Vec3> normal; // per point: the unit normal of the reference facet (Nitsche's traction)
   VecX area;                // per node: int N~_j dA0 (positive)
 };
 
@@ -60,7 +61,15 @@ struct IntegrationResult {
   int points = 0;  // integration points that found the master
   std::vector<Index> hit;  // the master facets they projected on (sorted, unique)
 };
+// One point's own gap and variations over IntegrationResult::nodes (Nitsche's method).
+struct IntegrationPointGap {
+  int q = 0;  // the facet's integration point
+  Real gap = 0;
+  VecX grad;
+  MatX hess;
+};
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
-                            const std::vector<Vec3>& x, int dim, IntegrationResult& out);
+                            const std::vector<Vec3>& x, int dim, IntegrationResult& out,
+                            std::vector<IntegrationPointGap>* points = nullptr);
 
 }  // namespace signorini

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
+#include <cstdlib>
 
 #include "signorini/core/error.hpp"
 #include "signorini/fem/coloring.hpp"
@@ -376,11 +377,124 @@ void Enforcement::end_increment(const ConstraintSet& cs, const EnforcementOutput
   }
 }
 
-std::unique_ptr<Enforcement> make_enforcement(const std::string& method) {
+// Nitsche's method on integration points (enforcement.hpp). Per point, active (P > 0):
+//   R_c = w P grad g + theta w g grad p,
+//   K_c = w (eps grad g grad g^T - grad g grad p^T - theta grad p grad g^T - P hess g);
+// open: R_c = (theta / eps) w p grad p, K_c = -(theta / eps) w grad p grad p^T (small strain:
+// p is linear in u, its Hessian is zero). The nodal pressure for output is an average of the
+// points' [P]_+ with positive weights (segment_to_segment's shares).
+// The gap's second variation enters the Newton matrix with min(P, p) instead of P unless
+// `exact` (tests): far from the solution P = p - eps g is many times the contact pressure (the
+// first step of a press penetrates by the whole displacement) and w P hess g made the matrix
+// indefinite; on CalculiX's coarse tet10 Hertz mesh the steps then diverged (a master node
+// moved by 1.6, the model's size), 18 iterations with the bound. At the solution P and p differ
+// by eps times the penetration, so the last iterations stay superlinear.
+class Nitsche final : public Enforcement {
+ public:
+  Nitsche(int theta, bool exact) : theta_(theta), exact_(exact) {}
+  std::string name() const override { return "nitsche"; }
+  bool uses_multipliers() const override { return false; }
+  bool symmetric() const override { return theta_ == 1; }
+  bool node_statuses() const override { return false; }
+  bool needs_points() const override { return true; }
+  bool full_steps() const override { return true; }
+  void assemble(const EnforcementInput& in, const VecX&, VecX& residual, GlobalMatrix* K,
+                EnforcementOutput& out) const override {
+    const Index n = static_cast<Index>(in.constraints->size());
+    const int dim = in.dim;
+    out.pressure.assign(n, 0.0);
+    out.active.assign(n, 0);
+    out.traction.clear();
+    out.slip.clear();
+    out.cone_excess.clear();
+    out.has_slave_force = true;
+    out.slave_force.setZero();
+    if (!in.points) throw Error("nitsche: the discretization gave no integration points (segment_to_segment needed)");
+    const std::vector<PointConstraint>& pts = *in.points;
+    const DofMap& dm = *in.dofs;
+    auto point_dofs = [&](const PointConstraint& pc, std::vector<Index>& d) {
+      d.clear();
+      for (Index nd : pc.nodes)
+        for (int k = 0; k < dim; ++k) d.push_back(dm.dof(nd, k));
+    };
+    // The points of one slave facet share their nodes (the discretization builds them facet
+    // after facet): their terms are summed per facet and added to the matrix once.
+    std::vector<size_t> group{0};
+    for (size_t q = 1; q <= pts.size(); ++q)
+      if (q == pts.size() || pts[q].facet != pts[q - 1].facet || pts[q].nodes != pts[q - 1].nodes) group.push_back(q);
+    if (pts.empty()) group.assign(1, 0);
+    const Index groups = static_cast<Index>(group.size()) - 1;
+    const Coloring coloring = color_items(groups, residual.size() / dim + 1, [&](Index g, std::vector<Index>& s) {
+      point_dofs(pts[group[g]], s);
+      for (Index& d : s) d = d < 0 ? -1 : d / dim;
+    });
+    const Real theta = theta_;
+    std::vector<Real> positive(pts.size(), 0.0);  // [P]_+ per point
+#pragma omp parallel
+    {
+      std::vector<Index> dofs;
+      MatX k;
+      VecX r;
+      Vec3 force = Vec3::Zero();
+      for (int color = 0; color < coloring.colors(); ++color) {
+#pragma omp for schedule(dynamic, 8)
+        for (Index item = coloring.begin(color); item < coloring.end(color); ++item) {
+          const Index g = coloring.items[item];
+          point_dofs(pts[group[g]], dofs);
+          const Index m = static_cast<Index>(dofs.size());
+          r.setZero(m);
+          if (K) k.setZero(m, m);
+          for (size_t q = group[g]; q < group[g + 1]; ++q) {
+            const PointConstraint& pc = pts[q];
+            const Real eps = pc.stiffness, w = pc.weight;
+            const Real P = pc.pressure - eps * pc.gap;
+            // P = 0 at g = 0 (a point that just touches, no stress yet) counts as active: zero
+            // force, but its stiffness (either branch is a valid Newton derivative at the kink),
+            // so a body held only by contact can start from touching.
+            if (P > 0 || (P == 0 && pc.gap <= 0)) {
+              r.noalias() += (w * P) * pc.grad + (theta * w * pc.gap) * pc.pressure_grad;
+              if (K) {
+                k.noalias() += (w * eps) * pc.grad * pc.grad.transpose();
+                k.noalias() -= w * pc.grad * pc.pressure_grad.transpose();
+                k.noalias() -= (theta * w) * pc.pressure_grad * pc.grad.transpose();
+                const Index mg = static_cast<Index>(pc.gap_nodes) * dim;
+                const Real Pg = exact_ ? P : std::min(P, std::max<Real>(pc.pressure, 0));
+                k.topLeftCorner(mg, mg) -= (w * Pg) * pc.hess;
+              }
+              for (int a = 0; a < pc.facet_nodes; ++a) force.head(dim) += w * P * pc.grad.segment(a * dim, dim);
+              positive[q] = P;
+            } else {
+              r.noalias() += ((theta / eps) * w * pc.pressure) * pc.pressure_grad;
+              if (K) k.noalias() -= ((theta / eps) * w) * pc.pressure_grad * pc.pressure_grad.transpose();
+            }
+          }
+          add_vector(residual, dofs, r, 1.0);
+          if (K) K->add(dofs.data(), static_cast<int>(m), k);
+        }
+      }
+#pragma omp critical
+      out.slave_force += force;
+    }
+    for (size_t q = 0; q < pts.size(); ++q)
+      if (positive[q] > 0)
+        for (const auto& [j, share] : pts[q].shares) out.pressure[j] += share * positive[q];
+    for (Index j = 0; j < n; ++j) out.active[j] = out.pressure[j] > 0;
+  }
+
+ private:
+  int theta_;
+  bool exact_;
+};
+
+std::unique_ptr<Enforcement> make_enforcement(const std::string& method, int theta, bool exact_tangent) {
+  if (method == "nitsche") {
+    if (theta != 1 && theta != 0 && theta != -1) throw Error("nitsche: theta is 1, 0 or -1");
+    return std::make_unique<Nitsche>(theta, exact_tangent);
+  }
   if (method == "penalty") return std::make_unique<Penalty>();
   if (method == "lagrange") return std::make_unique<LagrangeMultipliers>();
   if (method == "augmented_lagrangian") return std::make_unique<AugmentedLagrangian>();
-  throw Error("unknown contact enforcement method '" + method + "' (lagrange, augmented_lagrangian, penalty)");
+  throw Error("unknown contact enforcement method '" + method + "' (lagrange, augmented_lagrangian, penalty, nitsche)");
 }
 
 }  // namespace signorini

@@ -9,6 +9,13 @@
 // t_tr = P(n) (t_old + eps_T d) returned onto the friction law's disc (Wriggers 2006, sec. 5.2);
 // with Lagrange multipliers the traction is dim more multipliers per node, and the same return
 // map makes the tangential complementarity function (Alart & Curnier 1991).
+// Nitsche (Chouly, Hild & Renard 2015), on the integration points of segment_to_segment: no
+// new unknowns; at each point P = p(u) - eps g with p = -n.sigma.n the slave body's normal
+// pressure from its stress and eps = gamma0 E / h, and the contact term
+//   R_c = w [P]_+ grad g - (theta / eps) w ([P]_+ - p) grad p
+// (docs/contact.md): theta = 1 is the symmetric variant (the derivative of a potential),
+// 0 the incomplete and -1 the skew-symmetric one. The exact solution satisfies it (p is the
+// contact pressure, g = 0 where it is positive): no penetration beyond the discretization's.
 // Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
 #pragma once
 #include <memory>
@@ -36,6 +43,8 @@ struct EnforcementInput {
   // Friction: the law; constraints with has_slip get the frictional force.
   const FrictionLaw* friction = nullptr;
   const std::vector<char>* fixed = nullptr;  // per unknown: 1 if a Dirichlet condition prescribes it
+  // Nitsche: the integration points (the discretization's; `constraints` then serve output).
+  const std::vector<PointConstraint>* points = nullptr;
 };
 
 struct EnforcementOutput {
@@ -44,6 +53,10 @@ struct EnforcementOutput {
   std::vector<Vec3> traction;  // friction: tangential traction on the master (slave: minus it)
   std::vector<char> slip;      // friction: 1 slip, 0 stick
   std::vector<Real> cone_excess;  // friction: |t_trial| - bound (> 0: outside the disc)
+  // Nitsche: the contact force on the slave side, summed over the points (the nodal pressures
+  // are a projection of the points' and do not give it exactly).
+  bool has_slave_force = false;
+  Vec3 slave_force = Vec3::Zero();
 };
 
 // What an augmentation (Uzawa update) did.
@@ -63,6 +76,16 @@ class Enforcement {
   virtual std::string name() const = 0;
   virtual bool uses_multipliers() const = 0;
   virtual bool symmetric() const = 0;
+  // Whether the open/closed status is decided per slave node (the chattering guard may hold
+  // it); Nitsche decides it per integration point.
+  virtual bool node_statuses() const { return true; }
+  // Whether the enforcement needs the integration points of the discretization (Nitsche).
+  virtual bool needs_points() const { return false; }
+  // Whether Newton takes the semi-smooth method's full steps (no line search on the residual
+  // norm, which is no merit function for it) with elastic bodies: the multipliers, and
+  // Nitsche (measured on CalculiX's 2D Hertz mesh: 5-9 iterations with full steps, 9-25 with
+  // the line search, which held back its active-set updates).
+  virtual bool full_steps() const { return uses_multipliers(); }
   virtual void begin_increment(std::vector<NodeRecord>& nodes) const;
   virtual void assemble(const EnforcementInput& in, const VecX& z, VecX& residual, GlobalMatrix* K,
                         EnforcementOutput& out) const = 0;
@@ -74,6 +97,8 @@ class Enforcement {
   virtual void end_increment(const ConstraintSet& cs, const EnforcementOutput& out, std::vector<NodeRecord>& nodes) const;
 };
 
-std::unique_ptr<Enforcement> make_enforcement(const std::string& method);
+// theta: Nitsche's variant (1, 0, -1); exact_tangent: Nitsche's Newton matrix with the gap's
+// whole second variation (enforcement.cpp; the finite-difference tests).
+std::unique_ptr<Enforcement> make_enforcement(const std::string& method, int theta = 1, bool exact_tangent = false);
 
 }  // namespace signorini

@@ -1,0 +1,54 @@
+// The bodies' normal pressure at points of their boundary, from the stress of the cells that
+// own the boundary facets: what Nitsche's method needs (Chouly, Hild & Renard 2015): the
+// contact pressure p = -n.sigma(u).n of the slave body at a point of a slave facet and its
+// gradient over the cell's displacements. Small strain, materials without history: sigma is
+// the material's stress at the point (its strain from the cell's shape functions, which the
+// point's facet coordinates give in the cell's reference element), dp/du = -m^T D B with m the
+// Voigt form of n (x) n.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "signorini/fem/analysis_settings.hpp"
+#include "signorini/material/material.hpp"
+#include "signorini/mesh/mesh.hpp"
+
+namespace signorini {
+
+class BoundaryTraction {
+ public:
+  // The cells (blocks with their material) whose facets may be asked for.
+  struct Cells {
+    const ElementBlock* block;
+    const Material* material;
+  };
+  BoundaryTraction(std::vector<Cells> cells, const std::vector<Vec3>& X, AnalysisSettings settings);
+
+  // The cell that owns each facet (node lists in the facet's order): a handle, -1 for a facet
+  // no cell owns.
+  std::vector<Index> locate(const std::vector<std::vector<Index>>& facets) const;
+  // The owning cell's nodes and its material's stiffness scale (Young's modulus).
+  std::vector<Index> cell_nodes(Index handle) const;
+  Real stiffness(Index handle) const;
+  // The owning cell's height over the facet (reference): its measure over the facet's (area
+  // over length in 2D, volume over area in 3D): the length in the trace inequality that
+  // Nitsche's parameter scales with.
+  Real height(Index handle, const std::vector<Index>& facet, ElementType facet_type) const;
+  // At the facet's point with facet shape functions N (facet nodes `facet`, owned by `handle`)
+  // and unit normal n, the displacement u = x - X: p = -n.sigma.n and dp/du over cell_nodes
+  // (dim per node).
+  void normal_pressure(Index handle, const std::vector<Index>& facet, const VecX& N, const Vec3& n,
+                       const std::vector<Vec3>& x, Real& p, VecX& grad) const;
+
+ private:
+  struct Owner {
+    size_t cells;  // index into cells_
+    Index element;
+  };
+  std::vector<Cells> cells_;
+  const std::vector<Vec3>* X_;
+  AnalysisSettings settings_;
+  mutable std::vector<Owner> owners_;
+};
+
+}  // namespace signorini
