@@ -36,8 +36,9 @@ ElementType cell_of(ElementType facet) {
 }
 
 // One combination (ASSERTs return from here; the failure names the combination).
-void check_combination(const ContactCombination& c) {
-  SCOPED_TRACE(c.text());
+// theta: Nitsche's variant.
+void check_combination(const ContactCombination& c, int theta = 1) {
+  SCOPED_TRACE(c.text() + (c.method == "nitsche" ? " theta " + std::to_string(theta) : std::string()));
   const bool three = c.dimension == Dimension::three_d;
   const bool ntn = c.discretization == "node_to_node";
   const int vert = three ? 2 : 1;
@@ -119,6 +120,9 @@ void check_combination(const ContactCombination& c) {
   for (Index n : mesh.node_sets[moving]) {
     const Vec3& X = mesh.nodes[n];
     z0(dofs.dof(n, vert)) = (c.rigid() ? 1 : -1) * (0.004 + 0.008 * std::sin(7 * X(0) + 3 * X(1)));
+    // Nitsche decides per integration point, and the blocks start 0.01 into each other: the
+    // upper one tilted up on its right, where its points open.
+    if (c.method == "nitsche") z0(dofs.dof(n, vert)) += 0.03 * X(0);
   }
   if (c.rigid()) z0(nd + vert) = c.discretization == "rigid_plane" ? 0.0 : -0.04;
   // Turned (a plane about its point, so its normal tilts; a cylinder or sphere about its centre
@@ -152,6 +156,7 @@ void check_combination(const ContactCombination& c) {
     for (auto& b : blocks) cells_of_bodies.push_back({&b, &elastic});
   const BoundaryTraction traction(cells_of_bodies, mesh.nodes, as);
   cs.nitsche_exact_tangent = true;
+  cs.nitsche_theta = theta;
   for (size_t attempt = 0; attempt < tangential.size(); ++attempt) {
     cs.tangential_penalty = tangential[attempt];
     std::vector<std::unique_ptr<ContactInterface>> pairs;
@@ -223,6 +228,15 @@ void check_combination(const ContactCombination& c) {
           p->state().slip[j] ? ++slip : ++stick;
       }
     ASSERT_GT(closed, 0) << "no closed node: the check would be empty";
+    // Nitsche decides per integration point: both branches (P > 0 and P <= 0) must be in the check.
+    for (auto& p : pairs)
+      if (const auto* pts = p->integration_points()) {
+        Index active = 0;
+        for (const PointConstraint& pc : *pts) active += pc.pressure - pc.stiffness * pc.gap > 0;
+        ASSERT_GT(active, 0) << "no active integration point";
+        ASSERT_LT(active, static_cast<Index>(pts->size())) << "no open integration point";
+        std::printf("  %lld of %zu integration points active\n", (long long)active, pts->size());
+      }
     const bool mixed = c.friction == "none" || (stick > 0 && slip > 0);
     if (!mixed && attempt + 1 < tangential.size()) continue;
     // The unknowns the contact residual depends on (the others' columns are zero).
@@ -250,8 +264,8 @@ void check_combination(const ContactCombination& c) {
       err = std::max(err, e);
     }
     const Real maxk = K.k.cwiseAbs().maxCoeff();
-    std::printf("%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
-                c.text().c_str(), (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
+    std::printf("%s%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
+                c.text().c_str(), c.method == "nitsche" ? (" theta " + std::to_string(theta)).c_str() : "", (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
                 maxk);
     EXPECT_LT(err, 1e-6 * maxk) << c.text();
     break;
@@ -284,7 +298,12 @@ TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
   const auto all = supported_contact_combinations();
   ASSERT_GT(all.size(), 100u);
   for (const ContactCombination& c : all)
-    if (c.dimension != Dimension::three_d && selected(c)) check_combination(c);
+    if (c.dimension != Dimension::three_d && selected(c)) {
+      check_combination(c);
+      // Nitsche's other variants (theta 0 and -1 change only the weights of its terms; 2D suffices).
+      if (c.method == "nitsche")
+        for (int theta : {0, -1}) check_combination(c, theta);
+    }
 }
 
 TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {

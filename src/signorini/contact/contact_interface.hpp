@@ -77,6 +77,8 @@ class ContactInterface {
   bool needs_boundary_traction() const { return enforcement_->needs_points(); }
   bool full_newton_steps() const { return enforcement_->full_steps(); }
   void set_boundary_traction(const BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
+  // Nitsche: the integration points of the last assembly (null for other methods).
+  const std::vector<PointConstraint>* integration_points() const { return discretization_->integration_points(); }
   // Global search at positions x; max_step bounds the motion expected before the next search.
   void detect(const std::vector<Vec3>& x, Real max_step);
   // DOF groups the constraints may couple (for the sparse pattern).
