@@ -360,6 +360,17 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   EXPECT_NE(check_contact_combination(sts_friction).message.find("linear master"), std::string::npos);
   sts_friction.master_facet = ElementType::quad4;
   EXPECT_TRUE(check_contact_combination(sts_friction).message.empty()) << "3D friction, tri6 slave on quad4";
+  ContactCombination nitsche;
+  nitsche.method = "nitsche";
+  EXPECT_EQ(check_contact_combination(nitsche).key, "enforcement.method") << "nitsche on node_to_segment";
+  nitsche.discretization = "segment_to_segment";
+  EXPECT_TRUE(check_contact_combination(nitsche).message.empty()) << "nitsche on segment_to_segment";
+  nitsche.dimension = Dimension::three_d;
+  nitsche.slave_facet = nitsche.master_facet = ElementType::tri6;
+  nitsche.friction = "coulomb";
+  EXPECT_EQ(check_contact_combination(nitsche).key, "friction");
+  EXPECT_NE(check_contact_combination(nitsche).message.find("nitsche is frictionless"), std::string::npos)
+      << "the nitsche rule comes before the quadratic-master friction rule";
   ContactCombination smooth;
   smooth.smoothing = "hermite";
   smooth.master_facet = ElementType::line3;

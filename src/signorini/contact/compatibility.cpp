@@ -43,6 +43,19 @@ const std::vector<Rule>& rules() {
          return fmt::format("a {} analysis needs {} facets on its contact surfaces", dimension_name(c.dimension),
                             is_2d(c.dimension) ? "line" : "triangle or quadrilateral");
        }},
+      {"nitsche other than segment_to_segment",
+       [](const ContactCombination& c) { return c.method == "nitsche" && c.discretization != "segment_to_segment"; },
+       "enforcement.method",
+       [](const ContactCombination& c) {
+         return "nitsche works on integration points: it needs discretization: segment_to_segment (not " +
+                c.discretization + ")";
+       }},
+      {"nitsche with friction",
+       [](const ContactCombination& c) { return c.method == "nitsche" && c.friction != "none"; }, "friction",
+       [](const ContactCombination&) {
+         return std::string("nitsche is frictionless so far: use lagrange, augmented_lagrangian or penalty with "
+                            "friction");
+       }},
       {"tri6 or quad8 slave facets other than segment_to_segment (two passes: on either surface)",
        [](const ContactCombination& c) {
          auto bad = [](ElementType t) { return t == ElementType::tri6 || t == ElementType::quad8; };
@@ -83,19 +96,6 @@ const std::vector<Rule>& rules() {
                             "on tri6, quad8 and quad9 masters slave nodes chatter between stick and slip and end held "
                             "in stick while the surface slides (the 3D sliding patch test); make the linear side "
                             "master or use node_to_segment");
-       }},
-      {"nitsche other than segment_to_segment",
-       [](const ContactCombination& c) { return c.method == "nitsche" && c.discretization != "segment_to_segment"; },
-       "enforcement.method",
-       [](const ContactCombination& c) {
-         return "nitsche works on integration points: it needs discretization: segment_to_segment (not " +
-                c.discretization + ")";
-       }},
-      {"nitsche with friction",
-       [](const ContactCombination& c) { return c.method == "nitsche" && c.friction != "none"; }, "friction",
-       [](const ContactCombination&) {
-         return std::string("nitsche is frictionless so far: use lagrange, augmented_lagrangian or penalty with "
-                            "friction");
        }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {
