@@ -433,7 +433,7 @@ class Nitsche final : public Enforcement {
     const Real theta = theta_;
     std::vector<Real> positive(pts.size(), 0.0);  // [P]_+ per point
     // The bound on P in the gap's second variation: twice the largest pressure the slave
-    // body's stress gives at any point (enforcement.hpp).
+    // body's stress gives at any point (see above the class).
     Real bound = 0;
     for (const PointConstraint& pc : pts) bound = std::max(bound, 2 * pc.pressure);
 #pragma omp parallel
