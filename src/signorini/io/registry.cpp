@@ -360,8 +360,8 @@ void register_deck_sections(Registry& r) {
           text("gap_tolerance", "augmented_lagrangian: largest penetration accepted, or auto = 1e-3 x mean slave "
                                 "facet size", "auto", ParamKind::any),
           number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000),
-          text("gamma", "nitsche: gamma0 of the parameter gamma0 E / h (E the slave body's modulus, h its facet size "
-                        "over the facet's order), or auto = 10", "auto", ParamKind::any),
+          text("gamma", "nitsche: gamma0 of the parameter gamma0 E / h (E the slave body's modulus, h the height of "
+                        "the slave facet's cell over the facet, divided by the facet's order), or auto = 10", "auto", ParamKind::any),
           number("theta", "nitsche: 1 symmetric (Cholesky), 0 incomplete, -1 skew-symmetric", "1", -1, 1)}});
   r.add({"deck", "hardening", "Hardening of j2_plasticity (material key 'hardening').",
          {opt(text("isotropic", "{type: linear, H: ...} or {type: voce, saturation: ..., rate: ..., H: ...} (see "
