@@ -1,5 +1,9 @@
 // CalculiX decks run unchanged (issue 17, item 1): the harness's 2D Hertz decks; see
 // calculix_runner.hpp for what is compared and the references.
+#include <fmt/format.h>
+
+#include <sstream>
+
 #include "calculix_runner.hpp"
 
 using namespace signorini;
@@ -57,4 +61,60 @@ TEST(CalculixDeck, Hertz2dNitsche) {
     std::printf("nitsche theta %d: P %.6g, peak %.6g against Hertz p0 %.6g (%+.2f %%), %d Newton iterations\n", theta,
                 P, test::peak_pressure(r), p0, 100 * (test::peak_pressure(r) / p0 - 1), r.summary.total_iterations);
   }
+}
+
+// Nitsche in other units: the same problem in (m, Pa) as in (mm, MPa), the mesh scaled by 1e-3
+// and E by 1e6: gamma0 E / h and the stress pressure scale alike, so the Newton iterations are
+// the same and the pressures and the force per thickness agree to 1e-8 relative (measured:
+// 17 iterations each, peak 3464.6693064 MPa either way).
+TEST(CalculixDeck, Hertz2dNitscheIsUnitInvariant) {
+  namespace fs = std::filesystem;
+  const std::string tag = std::to_string(::getpid());
+  const fs::path mesh_si = fs::temp_directory_path() / ("signorini_nitsche_si_" + tag + ".inp");
+  {
+    std::ifstream in(test::kData / "meshes" / "hertz2d_coarse_cpe4.inp");
+    std::ofstream out(mesh_si);
+    bool nodes = false;
+    for (std::string line; std::getline(in, line);) {
+      if (!line.empty() && line[0] == '*') {
+        nodes = line.rfind("*NODE", 0) == 0;
+        out << line << "\n";
+        continue;
+      }
+      if (!nodes || line.find(',') == std::string::npos) {
+        out << line << "\n";
+        continue;
+      }
+      std::stringstream ss(line);
+      std::string field;
+      std::getline(ss, field, ',');
+      out << field;
+      while (std::getline(ss, field, ',')) out << ", " << fmt::format("{:.17g}", 1e-3 * std::stod(field));
+      out << "\n";
+    }
+  }
+  std::string deck = test::yaml_route("hertz2d_coarse_cpe4.inp", false,
+                                      "discretization: segment_to_segment, enforcement: {method: nitsche}");
+  auto replace = [&](const std::string& a, const std::string& b) {
+    const size_t at = deck.find(a);
+    ASSERT_NE(at, std::string::npos) << a;
+    deck.replace(at, a.size(), b);
+  };
+  replace((test::kData / "meshes" / "hertz2d_coarse_cpe4.inp").string(), mesh_si.string());
+  replace("E: 200000", "E: 2e11");
+  replace("uy: -0.0662", "uy: -0.0662e-3");
+  const fs::path yaml = fs::temp_directory_path() / ("signorini_nitsche_si_" + tag + ".yaml");
+  std::ofstream(yaml) << deck;
+  const test::Result si = test::run(yaml.string(), 1);
+  fs::remove(yaml);
+  fs::remove(mesh_si);
+  const test::Result mm = test::run_yaml("h2d_nitsche_mm", "hertz2d_coarse_cpe4.inp", false,
+                                         "discretization: segment_to_segment, enforcement: {method: nitsche}");
+  ASSERT_TRUE(si.completed && mm.completed);
+  EXPECT_EQ(si.summary.total_iterations, mm.summary.total_iterations);
+  EXPECT_NEAR(si.reaction, 1e3 * mm.reaction, 1e-8 * 1e3 * mm.reaction) << "N/m against N/mm (thickness 1 m, 1 mm)";
+  EXPECT_NEAR(test::peak_pressure(si), 1e6 * test::peak_pressure(mm), 1e-8 * 1e6 * test::peak_pressure(mm));
+  ASSERT_EQ(si.pressure.size(), mm.pressure.size());
+  for (const auto& [node, p] : mm.pressure)
+    EXPECT_NEAR(si.pressure.at(node), 1e6 * p, 1e-8 * 1e6 * test::peak_pressure(mm)) << "node " << node;
 }
