@@ -15,6 +15,7 @@
 #include "common.hpp"
 #include "signorini/contact/compatibility.hpp"
 #include "signorini/contact/contact_interface.hpp"
+#include "signorini/core/error.hpp"
 #include "signorini/fem/boundary_traction.hpp"
 
 using namespace signorini;
@@ -319,6 +320,38 @@ TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
   OneThread one;
   for (const ContactCombination& c : supported_contact_combinations())
     if (c.dimension == Dimension::three_d && c.method == "nitsche" && selected(c)) check_combination(c);
+}
+
+// Nitsche reads the slave body's stress: a slave facet that no deformable cell owns (here the
+// upper block's cells are left out, as a rigid body's are) is refused when the pair gets the
+// bodies' traction, naming the facet's mesh nodes.
+TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
+  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.49, 0), false, ElementType::quad4, 1);
+  orient_facets(mesh);
+  AnalysisSettings as;
+  ContactPairSettings cs;
+  cs.name = "c";
+  cs.master = "lower_ymax";
+  cs.slave = "upper_ymin";
+  cs.discretization = "segment_to_segment";
+  cs.method = "nitsche";
+  ContactInterface pair(cs, mesh, as, 100.0, false);
+  ASSERT_TRUE(pair.needs_boundary_traction());
+  const LinearElastic elastic(100.0, 0.3);
+  std::vector<BoundaryTraction::Cells> lower;
+  for (auto& b : mesh.regions.at("lower_domain")) lower.push_back({&b, &elastic});
+  const BoundaryTraction traction(lower, mesh.nodes, as);
+  try {
+    pair.set_boundary_traction(&traction);
+    FAIL() << "a slave facet without a deformable cell was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("belongs to no cell of a deformable body"), std::string::npos) << e.what();
+  }
+  // With the upper block's cells it is accepted.
+  std::vector<BoundaryTraction::Cells> both = lower;
+  for (auto& b : mesh.regions.at("upper_domain")) both.push_back({&b, &elastic});
+  const BoundaryTraction all(both, mesh.nodes, as);
+  EXPECT_NO_THROW(pair.set_boundary_traction(&all));
 }
 
 TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {

@@ -9,11 +9,11 @@
 #include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/node_to_segment.hpp"
 #include "signorini/contact/discretization/segment_to_segment.hpp"
-#include "signorini/fem/boundary_traction.hpp"
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/fem/boundary_traction.hpp"
 
 namespace signorini {
 
@@ -749,6 +749,7 @@ class SegmentToSegment final : public DeformableMaster {
       integration_.push_back(make_integration_facet(slave_facets_.type[e], slave_facets_.facets[e], mesh.nodes, dim_,
                                                     as.dimension == Dimension::axisymmetric, as.thickness));
     gamma0_ = s.nitsche_gamma > 0 ? s.nitsche_gamma : kNitscheGamma;
+    node_ids_ = &mesh.node_ids;
   }
   std::string name() const override { return "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
@@ -760,9 +761,9 @@ class SegmentToSegment final : public DeformableMaster {
     for (size_t e = 0; e < cell_.size(); ++e) {
       if (cell_[e] < 0) {
         std::string nodes;
-        for (Index n : slave_facets_.facets[e]) nodes += (nodes.empty() ? "" : ", ") + std::to_string(n);
-        throw Error("Nitsche's method needs the slave body's stress, but slave facet " + std::to_string(e) +
-                    " (node indices " + nodes + ") belongs to no cell of a deformable body");
+        for (Index n : slave_facets_.facets[e]) nodes += (nodes.empty() ? "" : ", ") + std::to_string((*node_ids_)[n]);
+        throw Error("Nitsche's method needs the slave body's stress, but the slave facet of mesh nodes " + nodes +
+                    " belongs to no cell of a deformable body (a rigid body, or a facet set that is not a body's boundary)");
       }
       cell_nodes_[e] = t->cell_nodes(cell_[e]);
     }
@@ -932,6 +933,7 @@ class SegmentToSegment final : public DeformableMaster {
   // Nitsche's method: the boundary traction, per slave facet the owning cell (handle), its
   // nodes and the facet's size h, gamma0, and the integration points of the last build.
   const BoundaryTraction* traction_ = nullptr;
+  const std::vector<Index>* node_ids_ = nullptr;  // mesh node ids, for messages
   std::vector<Index> cell_;
   std::vector<std::vector<Index>> cell_nodes_;
   std::vector<Real> facet_size_;
