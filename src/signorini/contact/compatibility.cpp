@@ -78,12 +78,30 @@ const std::vector<Rule>& rules() {
          return std::string("node_to_node pairs slave nodes with master corner nodes and cannot use the mid-side nodes "
                             "of quadratic facets: use node_to_segment");
        }},
-      {"mortar in 3D",
-       [](const ContactCombination& c) { return c.discretization == "mortar" && !is_2d(c.dimension); },
+      {"mortar in 3D on quadratic facets",
+       [](const ContactCombination& c) {
+         return c.discretization == "mortar" && !is_2d(c.dimension) && !(linear(c.slave_facet) && linear(c.master_facet));
+       },
        "discretization",
+       [](const ContactCombination& c) {
+         return "mortar in 3D clips linear facets (tri3, quad4) so far, not " +
+                std::string(element_info(linear(c.slave_facet) ? c.master_facet : c.slave_facet).name) +
+                ": use segment_to_segment on quadratic surfaces (tet10, hex20, hex27)";
+       }},
+      {"mortar in 3D with friction",
+       [](const ContactCombination& c) {
+         return c.discretization == "mortar" && !is_2d(c.dimension) && c.friction != "none";
+       },
+       "friction",
        [](const ContactCombination&) {
-         return std::string("mortar is available in 2D (plane strain, plane stress, axisymmetric) so far: use "
-                            "node_to_segment in 3D");
+         return std::string("mortar in 3D is frictionless so far: with friction use segment_to_segment (linear "
+                            "master facets) or node_to_segment");
+       }},
+      {"self-contact with mortar in 3D",
+       [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && !is_2d(c.dimension); },
+       "self",
+       [](const ContactCombination&) {
+         return std::string("self-contact with mortar is 2D so far: use node_to_segment in 3D");
        }},
       {"segment_to_segment with friction on quadratic master facets in 3D",
        [](const ContactCombination& c) {

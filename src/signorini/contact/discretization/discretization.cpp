@@ -525,7 +525,8 @@ class NodeToNode final : public DeformableMaster {
 };
 
 
-// Dual mortar (2D, mortar.hpp): one weighted gap per slave node, integrated over the segments
+// Dual mortar (2D; 3D on tri3 and quad4 facets, frictionless: mortar.hpp): one weighted gap per
+// slave node, integrated over the segments
 // of its slave facets against the master facets they overlap. The constraint's gap is
 // g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that
 // enforcement's force p w_j grad(g~_j / w_j) = p grad g~_j is the mortar virtual work with
@@ -549,7 +550,6 @@ class Mortar final : public DeformableMaster {
  public:
   Mortar(const ContactPairSettings& s, const Mesh& mesh, const SlaveSurface& slave, const AnalysisSettings& as)
       : DeformableMaster(s, mesh, slave, as.spatial_dim()), self_(s.self) {
-    if (dim_ != 2) throw Error("contact '" + s.name + "': mortar is available in 2D only so far");
     measure_.axisymmetric = as.dimension == Dimension::axisymmetric;
     measure_.thickness = as.thickness;
     slave_facets_ = make_master_surface(mesh, s.slave);
@@ -591,7 +591,8 @@ class Mortar final : public DeformableMaster {
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
-      MortarFacetResult r = mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_);
+      MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
+                                      : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true);
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));

@@ -1,5 +1,7 @@
 #include "signorini/contact/discretization/mortar.hpp"
 
+#include "signorini/contact/discretization/mortar_dual.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -11,6 +13,8 @@
 namespace signorini {
 
 namespace {
+
+using namespace mortar_detail;
 
 inline Real sqrt(Real a) { return std::sqrt(a); }
 
@@ -146,21 +150,10 @@ bool solve_parameter(Real xi0, const FR& residual_real, const FT& residual, T& x
   return true;
 }
 
-// The integrals of one segment (the slave facet's overlap with one master facet) that the
-// weighted gaps are made of, in the standard basis N_k of the slave facet:
-//   G_k = int_seg N_k g dA,   M_ik = int_seg N_i N_k dA   (u = [G_0.., M_00, M_01, M_11, M_02, M_12, M_22]);
-// `cover`: the segment's share of the slave facet's parameter range. False when the facets do
-// not overlap, do not face each other, or the slave-to-master map folds over (a point of the
-// segment projects off the master facet: beyond the focus of a concave slave wall's normals).
-constexpr int kMaxU = 9;  // G (3) and the upper triangle of M (6) for a line3 slave facet
-// The least share of a slave facet's parameter range that must be covered for its weighted gaps
-// to count (see mortar_element_2d).
-constexpr Real kMinCover = 1e-3;
-int num_u(int ns) { return ns + ns * (ns + 1) / 2; }
-int m_index(int ns, int i, int k) {  // the place of M_ik (i <= k) in u
-  if (i > k) std::swap(i, k);
-  return ns + k * (k + 1) / 2 + i;
-}
+// The integrals u of one segment (mortar_dual.hpp) and `cover`, the segment's share of the slave
+// facet's parameter range. False when the facets do not overlap, do not face each other, or the
+// slave-to-master map folds over (a point of the segment projects off the master facet: beyond
+// the focus of a concave slave wall's normals).
 
 // One integration point of a segment, for friction's slip (plain numbers): the slave and master
 // shape functions there and the point's weight (current dA times the Gauss weight).
@@ -277,104 +270,6 @@ bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const Morta
   return true;
 }
 
-// The weighted gaps from the element's summed segment integrals u: the dual basis built on the
-// covered part of the slave facet (Cichosz and Bischoff 2011, "Consistent treatment of
-// boundaries with mortar contact formulations using dual Lagrange multipliers", CMAME 200; used
-// by Popp, Wohlmuth, Gee and Wall 2013, "Improved robustness and consistency of 3D contact
-// algorithms based on a dual mortar approach", CMAME 264),
-//   A = D M^-1,  D_jj = sum_k M_jk,  g~_j = sum_k A_jk G_k,
-// biorthogonal on the covered part, so that a gap field the slave basis interpolates gives
-// g~_j = D_jj g_j with D_jj = int_covered N_j > 0: a node whose support a master covers only in
-// part gets a weighted gap of the sign of its gap (the basis built on the whole facet is negative
-// on part of it, and read two walls 0.8 mm apart as a penetration). On a fully covered facet it
-// is the usual dual basis.
-// With `positive` (self-contact), a line3 facet's basis is first transformed to
-//   N~_corner = N_corner + N_mid / 4,  N~_mid = N_mid / 2
-// (a transformed basis as in Popp, Wohlmuth, Gee and Wall 2012, "Dual quadratic mortar finite
-// element methods for 3D finite deformation contact", SIAM J. Sci. Comput. 34; 1/4 is the
-// value that makes the corner functions (1 + xi)^2 / 4 non-negative): then D_jj = int_c N~_j >= 0
-// on any covered part c (a line3 corner function is negative on half its facet, so D_jj of a
-// partly covered corner may be negative and flip its gap's sign). The gaps are then those of
-// the N~ coefficients, and the node weights int N~_j dA0 (mortar_slave_weights).
-constexpr Real kTransform = 0.25;
-
-// N~ from N (line3: the transformed basis above; line2: N itself).
-void transformed_basis(int ns, const Real* N, Real* Nt) {
-  for (int k = 0; k < ns; ++k) Nt[k] = N[k];
-  if (ns == 3) {
-    Nt[0] += kTransform * N[2];
-    Nt[1] += kTransform * N[2];
-    Nt[2] = (1 - 2 * kTransform) * N[2];
-  }
-}
-template <class T>
-void dual_weighted_gaps(int ns, const T* u_in, bool positive, T* gap) {
-  T u[kMaxU];
-  for (int i = 0; i < num_u(ns); ++i) u[i] = u_in[i];
-  if (positive && ns == 3) {
-    // G~ = T G, M~ = T M T^T with T = [1 0 a; 0 1 a; 0 0 1-2a].
-    const Real a = kTransform, c = 1 - 2 * a;
-    T G[3], M[3][3];
-    for (int i = 0; i < 3; ++i) {
-      G[i] = u_in[i];
-      for (int k = 0; k < 3; ++k) M[i][k] = u_in[m_index(3, i, k)];
-    }
-    const Real Tm[3][3] = {{1, 0, a}, {0, 1, a}, {0, 0, c}};
-    T TM[3][3];
-    for (int i = 0; i < 3; ++i) {
-      u[i] = T(0);
-      for (int k = 0; k < 3; ++k) {
-        if (Tm[i][k] != 0) u[i] += Tm[i][k] * G[k];
-        TM[i][k] = T(0);
-        for (int l = 0; l < 3; ++l)
-          if (Tm[i][l] != 0) TM[i][k] += Tm[i][l] * M[l][k];
-      }
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int k = i; k < 3; ++k) {
-        T v = T(0);
-        for (int l = 0; l < 3; ++l)
-          if (Tm[k][l] != 0) v += TM[i][l] * Tm[k][l];
-        u[m_index(3, i, k)] = v;
-      }
-  }
-  T M[3][3], D[3], inv[3][3];
-  for (int i = 0; i < ns; ++i)
-    for (int k = 0; k < ns; ++k) M[i][k] = u[m_index(ns, i, k)], inv[i][k] = T(i == k ? 1.0 : 0.0);
-  for (int i = 0; i < ns; ++i) {
-    D[i] = T(0);
-    for (int k = 0; k < ns; ++k) D[i] += M[i][k];
-  }
-  // M^-1 by Gauss-Jordan on [M | I] (M is a mass matrix: symmetric positive definite).
-  for (int p = 0; p < ns; ++p) {
-    const T piv = 1 / M[p][p];
-    for (int k = 0; k < ns; ++k) {
-      M[p][k] = M[p][k] * piv;
-      inv[p][k] = inv[p][k] * piv;
-    }
-    for (int r = 0; r < ns; ++r) {
-      if (r == p) continue;
-      const T f = M[r][p];
-      for (int k = 0; k < ns; ++k) {
-        M[r][k] -= f * M[p][k];
-        inv[r][k] -= f * inv[p][k];
-      }
-    }
-  }
-  for (int j = 0; j < ns; ++j) {
-    gap[j] = T(0);
-    for (int k = 0; k < ns; ++k) gap[j] += D[j] * inv[j][k] * u[k];
-  }
-}
-
-// One segment's integrals u with their gradients and Hessians over the pair's nodes.
-struct SegmentIntegrals {
-  std::vector<Index> nodes;
-  Real u[kMaxU] = {};
-  std::vector<VecX> grad;  // per u, over `nodes` (2 per node)
-  std::vector<MatX> hess;
-};
-
 template <int N>
 bool segment_derivatives(const Layout& L, const std::vector<Vec3>& xl, const MortarMeasure& ms, SegmentIntegrals& r) {
   using HD = HyperDual<N>;
@@ -430,6 +325,46 @@ Layout make_layout(const MasterSurface& slave, Index e, const MasterSurface& mas
 }
 
 }  // namespace
+
+void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, bool positive_basis,
+                                             const std::vector<SegmentIntegrals>& segments, MortarFacetResult& r) {
+  const int nu = num_u(ns);
+  using HU = HyperDual<kMaxU>;
+  HU uh[kMaxU], gh[kMaxNs];
+  for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
+  dual_weighted_gaps(ns, uh, positive_basis, gh);
+  const Index nd = dim * static_cast<Index>(r.nodes.size());
+  r.grad.assign(ns, VecX::Zero(nd));
+  r.hess.assign(ns, MatX::Zero(nd, nd));
+  // The segments' nodes in the element's numbering, and the gradients of the summed u there.
+  std::vector<std::vector<Index>> at(segments.size());
+  MatX Gsum = MatX::Zero(nd, nu);
+  for (size_t p = 0; p < segments.size(); ++p) {
+    const SegmentIntegrals& s = segments[p];
+    for (size_t a = 0; a < s.nodes.size(); ++a) {
+      at[p].push_back(std::find(r.nodes.begin(), r.nodes.end(), s.nodes[a]) - r.nodes.begin());
+      for (int i = 0; i < nu; ++i)
+        Gsum.block(dim * at[p][a], i, dim, 1) += s.grad[i].segment(dim * static_cast<Index>(a), dim);
+    }
+  }
+  for (int j = 0; j < ns; ++j) {
+    const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
+    const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
+    r.grad[j] = Gsum * fa.head(nu);
+    r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
+    for (size_t p = 0; p < segments.size(); ++p) {
+      const SegmentIntegrals& s = segments[p];
+      const std::vector<Index>& A = at[p];
+      for (int i = 0; i < nu; ++i) {
+        if (fa(i) == 0) continue;
+        for (size_t a = 0; a < A.size(); ++a)
+          for (size_t b = 0; b < A.size(); ++b)
+            r.hess[j].block(dim * A[a], dim * A[b], dim, dim) +=
+                fa(i) * s.hess[i].block(dim * static_cast<Index>(a), dim * static_cast<Index>(b), dim, dim);
+      }
+    }
+  }
+}
 
 MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x,
@@ -506,42 +441,7 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   r.slip_weight = std::move(slip_weight);
   if (!derivatives) return r;
 
-  // The chain rule through g~(u): grad = sum_a f_a grad u_a, hess = sum_a f_a hess u_a +
-  // sum_ab f_ab grad u_a grad u_b^T, with f's derivatives by hyper-dual numbers over u.
-  using HU = HyperDual<kMaxU>;
-  HU uh[kMaxU], gh[3];
-  for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
-  dual_weighted_gaps(ns, uh, positive_basis, gh);
-  const Index n2 = 2 * static_cast<Index>(r.nodes.size());
-  r.grad.assign(ns, VecX::Zero(n2));
-  r.hess.assign(ns, MatX::Zero(n2, n2));
-  // The segments' nodes in the element's numbering, and the gradients of the summed u there.
-  std::vector<std::vector<Index>> at(segments.size());
-  MatX Gsum = MatX::Zero(n2, nu);
-  for (size_t p = 0; p < segments.size(); ++p) {
-    const SegmentIntegrals& s = segments[p];
-    for (size_t a = 0; a < s.nodes.size(); ++a) {
-      at[p].push_back(std::find(r.nodes.begin(), r.nodes.end(), s.nodes[a]) - r.nodes.begin());
-      for (int i = 0; i < nu; ++i) Gsum.block(2 * at[p][a], i, 2, 1) += s.grad[i].segment(2 * static_cast<Index>(a), 2);
-    }
-  }
-  for (int j = 0; j < ns; ++j) {
-    const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
-    const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
-    r.grad[j] = Gsum * fa.head(nu);
-    r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
-    for (size_t p = 0; p < segments.size(); ++p) {
-      const SegmentIntegrals& s = segments[p];
-      const std::vector<Index>& A = at[p];
-      for (int i = 0; i < nu; ++i) {
-        if (fa(i) == 0) continue;
-        for (size_t a = 0; a < A.size(); ++a)
-          for (size_t b = 0; b < A.size(); ++b)
-            r.hess[j].block(2 * A[a], 2 * A[b], 2, 2) +=
-                fa(i) * s.hess[i].block(2 * static_cast<Index>(a), 2 * static_cast<Index>(b), 2, 2);
-      }
-    }
-  }
+  mortar_detail::weighted_gap_derivatives(2, ns, u, positive_basis, segments, r);
   return r;
 }
 

@@ -1,4 +1,4 @@
-// Segment-based dual mortar contact in 2D (Popp, Gitterle, Gee, Wall 2010, "A dual mortar
+// Segment-based dual mortar contact in 2D and, on linear facets, 3D (mortar_3d.cpp). 2D: (Popp, Gitterle, Gee, Wall 2010, "A dual mortar
 // approach for 2D finite deformation frictional contact problems", CMAME 199; Wohlmuth 2000
 // for the dual basis). Per slave node j the weighted gap
 //   g~_j = int_{Gamma_s} Phi_j g dA,   g = (x_m(chi(xi)) - x_s(xi)) . n(xi) / |n(xi)|,
@@ -61,6 +61,15 @@ struct MortarFacetResult {
 MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x,
                                     const MortarMeasure& measure, bool derivatives, bool positive_basis = false);
+
+// Slave facet e (tri3 or quad4) against the facets `masters` (tri3 or quad4) in 3D
+// (mortar_3d.cpp): the master facets' corners projected along the slave facet's centre normal
+// onto its parameter plane, clipped against its reference element, the clipped polygon
+// integrated in triangles from its centroid; the dual basis on the covered part as in 2D.
+// `segment_length` is the covered current area; `relative` and `slip_weight` stay empty
+// (frictionless).
+MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives);
 
 // The reference weight int N_j dA0 of each slave node (indexed by mesh node, 0 elsewhere; X the
 // reference positions); with `positive_basis`, of the transformed line3 basis (mortar.cpp).

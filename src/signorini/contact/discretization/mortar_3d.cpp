@@ -1,0 +1,445 @@
+// Segment-based dual mortar in 3D on linear facets (tri3, quad4), mortar.hpp.
+//
+// Per slave facet e and master facet m (Puso and Laursen 2004, "A mortar segment-to-segment
+// contact method for large deformation solid mechanics", CMAME 193; Popp, Gee and Wall 2009,
+// "A finite deformation mortar contact formulation using a primal-dual active set strategy",
+// IJNME 79, sec. 3.3, for the auxiliary plane and the integration cells):
+//  - the projection direction is n0, the slave facet's unit normal at its centre (the normal of
+//    the auxiliary plane): the master's corners are projected along n0 onto the slave facet,
+//    (x_s(xi) - x_m) . a_alpha = 0 with a_1, a_2 the slave's tangents at its centre, which span
+//    the plane normal to n0; on a tri3 slave the slave facet is that plane and the map is the
+//    auxiliary-plane projection exactly;
+//  - the projected master polygon is clipped against the slave's reference element in the
+//    slave's parameter plane (Sutherland-Hodgman: the reference element is convex);
+//  - the clipped polygon is cut into triangles from its centroid (the integration cells), each
+//    integrated with a triangle Gauss rule in the slave parameter; at each point the master
+//    point is x_s + t n0 on the master facet, and the gap g = (x_m - x_s) . n0;
+//  - G_k = int N_k g dA, M_ik = int N_i N_k dA with dA = |a_1 x a_2| dxi, summed over the
+//    master facets, give the weighted gaps through the dual basis on the covered part
+//    (mortar_dual.hpp), as in 2D.
+// The cells of neighbouring master facets share the projected images of the master's common
+// edge, so they tile the covered part of the slave's parameter plane without gap or overlap
+// (on a quad4 slave the image of a master edge is approximated by its chord in the parameter
+// plane, on both sides alike). Everything, from the projections to the clipped vertices, the
+// centroid and the rule's points, is written on T = Real or HyperDual over the pair's
+// coordinates, so the gradient and Hessian of the integrals include the variation of the
+// segmentation. The gap is measured along the facet's own normal n0, not along the averaged
+// nodal normals of the 2D mortar (those would make the integrals depend on the neighbouring
+// facets' nodes too); on a flat interface the two agree.
+#include <algorithm>
+#include <cmath>
+
+#include "signorini/contact/discretization/mortar.hpp"
+#include "signorini/contact/discretization/mortar_dual.hpp"
+#include "signorini/contact/geometry/hyper_dual.hpp"
+#include "signorini/core/error.hpp"
+
+namespace signorini {
+
+namespace {
+
+using namespace mortar_detail;
+
+inline Real sqrt(Real a) { return std::sqrt(a); }
+
+template <class T>
+struct V3 {
+  T x{}, y{}, z{};
+};
+template <class T>
+V3<T> operator+(const V3<T>& a, const V3<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T>
+V3<T> operator-(const V3<T>& a, const V3<T>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class T, class S>
+V3<T> operator*(const S& s, const V3<T>& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+template <class T>
+T dot(const V3<T>& a, const V3<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+V3<T> cross(const V3<T>& a, const V3<T>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+V3<Real> val(const V3<T>& a) {
+  return {value(a.x), value(a.y), value(a.z)};
+}
+
+// Points of a facet's parameter plane.
+template <class T>
+struct V2 {
+  T a{}, b{};
+};
+template <class T>
+V2<T> operator+(const V2<T>& p, const V2<T>& q) {
+  return {p.a + q.a, p.b + q.b};
+}
+template <class T>
+V2<T> operator-(const V2<T>& p, const V2<T>& q) {
+  return {p.a - q.a, p.b - q.b};
+}
+template <class T, class S>
+V2<T> operator*(const S& s, const V2<T>& p) {
+  return {s * p.a, s * p.b};
+}
+template <class T>
+T cross2(const V2<T>& p, const V2<T>& q) {
+  return p.a * q.b - p.b * q.a;
+}
+
+// Tri3 (nodes at (0,0), (1,0), (0,1)) or quad4 (nodes at (-1,-1), (1,-1), (1,1), (-1,1)) shape
+// functions and their derivatives, the element library's node order.
+template <class T>
+void shape(int nn, const T& a, const T& b, T* N, T* Na, T* Nb) {
+  if (nn == 3) {
+    N[0] = 1 - a - b, N[1] = a, N[2] = b;
+    Na[0] = T(-1), Na[1] = T(1), Na[2] = T(0);
+    Nb[0] = T(-1), Nb[1] = T(0), Nb[2] = T(1);
+    return;
+  }
+  static constexpr Real c[4] = {-1, 1, 1, -1}, d[4] = {-1, -1, 1, 1};
+  for (int i = 0; i < 4; ++i) {
+    const T fa = 1 + c[i] * a, fb = 1 + d[i] * b;
+    N[i] = 0.25 * fa * fb;
+    Na[i] = (0.25 * c[i]) * fb;
+    Nb[i] = (0.25 * d[i]) * fa;
+  }
+}
+template <class T>
+V3<T> interpolate(int nn, const T* N, const V3<T>* x) {
+  V3<T> p{T(0), T(0), T(0)};
+  for (int i = 0; i < nn; ++i) p = p + N[i] * x[i];
+  return p;
+}
+// acc += a b for hyper-dual numbers where b is one of the inputs (a unit gradient, no Hessian):
+// then (a b)'' = b a'' + e_k a'^T + a' e_k^T, a quarter of a general product's work. The
+// interpolations of nodal coordinates, most of the work here, are such products.
+template <int NV>
+void add_product(HyperDual<NV>& acc, const HyperDual<NV>& a, const HyperDual<NV>& b) {
+  int k = -1;
+  for (int i = 0; i < NV; ++i)
+    if (b.g(i) != 0) {
+      if (k >= 0 || b.g(i) != 1) k = -2;
+      if (k == -2) break;
+      k = i;
+    }
+  if (k < 0 || b.h(k, k) != 0) {
+    acc += a * b;
+    return;
+  }
+  acc.v += a.v * b.v;
+  acc.g += b.v * a.g;
+  acc.g(k) += a.v;
+  acc.h += b.v * a.h;
+  acc.h.row(k) += a.g.transpose();
+  acc.h.col(k) += a.g;
+}
+template <int NV>
+V3<HyperDual<NV>> interpolate(int nn, const HyperDual<NV>* N, const V3<HyperDual<NV>>* x) {
+  V3<HyperDual<NV>> p{HyperDual<NV>(0), HyperDual<NV>(0), HyperDual<NV>(0)};
+  for (int i = 0; i < nn; ++i) {
+    add_product(p.x, N[i], x[i].x);
+    add_product(p.y, N[i], x[i].y);
+    add_product(p.z, N[i], x[i].z);
+  }
+  return p;
+}
+
+// The reference element as a counter-clockwise polygon, its area and its centre.
+struct Reference {
+  int n;
+  V2<Real> corner[4];
+  Real area;
+  V2<Real> centre;
+};
+const Reference& reference(int nn) {
+  static const Reference tri{3, {{0, 0}, {1, 0}, {0, 1}, {0, 0}}, 0.5, {1.0 / 3, 1.0 / 3}};
+  static const Reference quad{4, {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}, 4.0, {0, 0}};
+  return nn == 3 ? tri : quad;
+}
+
+// The parameters of facet xf (nn nodes) at which x(xi) - p is normal to t1 and t2 (parallel to
+// n0 = t1 x t2): Newton in plain numbers from the centre, then two Newton steps on T from the
+// converged parameters (the first makes the gradient exact, the second the Hessian; the map is
+// stationary at its fixed point; on tri3 facets one step is exact). False if Newton fails (the
+// facet is edge-on to n0).
+// One Newton step for those parameters from xi: the step d (xi - d is the next iterate) and the
+// determinant of the Jacobian [a_beta . t_alpha].
+template <class T>
+V2<T> projection_step(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, const V2<T>& xi,
+                      T& det) {
+  T N[4], Na[4], Nb[4];
+  shape(nn, xi.a, xi.b, N, Na, Nb);
+  const V3<T> r = interpolate(nn, N, xf) - p, a1 = interpolate(nn, Na, xf), a2 = interpolate(nn, Nb, xf);
+  const T F1 = dot(r, t1), F2 = dot(r, t2);
+  const T J11 = dot(a1, t1), J12 = dot(a2, t1), J21 = dot(a1, t2), J22 = dot(a2, t2);
+  det = J11 * J22 - J12 * J21;
+  return {(J22 * F1 - J12 * F2) / det, (J11 * F2 - J21 * F1) / det};
+}
+template <class T>
+bool project_along(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, V2<T>& out) {
+  V3<Real> xv[4];
+  for (int i = 0; i < nn; ++i) xv[i] = val(xf[i]);
+  const V3<Real> pv = val(p), t1v = val(t1), t2v = val(t2);
+  V2<Real> xi = reference(nn).centre;
+  const Real scale = std::sqrt(dot(t1v, t1v) * dot(t2v, t2v));
+  bool ok = false;
+  for (int it = 0; it < 30; ++it) {
+    Real det = 0;
+    const V2<Real> d = projection_step(nn, xv, pv, t1v, t2v, xi, det);
+    if (!(std::abs(det) > 1e-12 * scale) || !std::isfinite(d.a + d.b)) return false;
+    xi = xi - d;
+    if (!(std::abs(xi.a) < 1e3 && std::abs(xi.b) < 1e3)) return false;
+    if (std::abs(d.a) + std::abs(d.b) < 1e-13) {
+      ok = true;
+      break;
+    }
+  }
+  if (!ok) return false;
+  V2<T> t{T(xi.a), T(xi.b)};
+  // On a tri3 facet the equations are linear: one step is exact, derivatives included.
+  for (int step = 0; step < (nn == 3 ? 1 : 2); ++step) {
+    T det;
+    t = t - projection_step(nn, xf, p, t1, t2, t, det);
+  }
+  out = t;
+  return true;
+}
+
+// Sutherland-Hodgman: the part of polygon `subject` (counter-clockwise) inside the convex
+// reference element. A vertex within kOnEdge of an edge's line counts as on it (inside), and no
+// intersection is computed for it: the intersection of a master edge nearly collinear with a
+// slave edge (coincident boundaries up to round-off, as in the patch test) is ill-conditioned,
+// s = s_P / (s_P - s_Q) with both of order 1e-16, and its derivatives, of order 1 / 1e-16, would
+// reach every integration point through the centroid. Counted inside, such a vertex lies at most
+// kOnEdge outside the facet; the integrals change by that much, smoothly.
+constexpr Real kOnEdge = 1e-10;
+template <class T>
+std::vector<V2<T>> clip(const std::vector<V2<T>>& subject, const Reference& ref) {
+  std::vector<V2<T>> out = subject, in;
+  for (int e = 0; e < ref.n && out.size() >= 3; ++e) {
+    const V2<Real> A = ref.corner[e], B = ref.corner[(e + 1) % ref.n];
+    const V2<Real> AB = B - A;
+    const Real len = std::sqrt(AB.a * AB.a + AB.b * AB.b);
+    auto side = [&](const V2<T>& q) { return (1 / len) * (AB.a * (q.b - A.b) - AB.b * (q.a - A.a)); };
+    in.swap(out);
+    out.clear();
+    for (size_t i = 0; i < in.size(); ++i) {
+      const V2<T>& P = in[i];
+      const V2<T>& Q = in[(i + 1) % in.size()];
+      const T sp = side(P), sq = side(Q);
+      const bool pin = value(sp) >= -kOnEdge, qin = value(sq) >= -kOnEdge;
+      if (pin) out.push_back(P);
+      // An intersection where the edge crosses the line from inside to strictly outside or
+      // back; an end on the line is the intersection itself (and is pushed as inside).
+      if (pin != qin && value(pin ? sp : sq) > kOnEdge) {
+        const T s = sp / (sp - sq);
+        out.push_back(P + s * (Q - P));
+      }
+    }
+  }
+  // Merge vertices closer than round-off (a master corner on a slave edge gives one twice).
+  std::vector<V2<T>> merged;
+  for (const V2<T>& p : out) {
+    if (!merged.empty()) {
+      const V2<Real> d = {value(p.a) - value(merged.back().a), value(p.b) - value(merged.back().b)};
+      if (std::abs(d.a) + std::abs(d.b) < 1e-13) continue;  // duplicates of one vertex
+    }
+    merged.push_back(p);
+  }
+  while (merged.size() >= 2) {
+    const V2<Real> d = {value(merged.front().a) - value(merged.back().a), value(merged.front().b) - value(merged.back().b)};
+    if (std::abs(d.a) + std::abs(d.b) >= 1e-13) break;
+    merged.pop_back();
+  }
+  return merged;
+}
+
+// The rules on a triangular cell (reference triangle (0,0), (1,0), (0,1); weights sum to 1/2):
+// degree 2, 3 points (exact for a tri3 slave on a tri3 master: M_ik and, the gap being affine
+// in the slave parameter, G_k are quadratic), or degree 5, 7 points (Radon's rule; Stroud 1971,
+// T2:5-1), exact for M_ik of a parallelogram quad4 slave (biquadratic) and otherwise close.
+struct CellPoint {
+  Real r, s, weight;
+};
+const std::vector<CellPoint>& cell_rule(int degree) {
+  static const std::vector<CellPoint> two = {{1. / 6, 1. / 6, 1. / 6}, {2. / 3, 1. / 6, 1. / 6}, {1. / 6, 2. / 3, 1. / 6}};
+  static const std::vector<CellPoint> five = [] {
+    const Real r15 = std::sqrt(15.0);
+    const Real a = (6 - r15) / 21, b = (6 + r15) / 21, wa = (155 - r15) / 2400, wb = (155 + r15) / 2400;
+    return std::vector<CellPoint>{{1. / 3, 1. / 3, 9. / 80}, {a, a, wa}, {1 - 2 * a, a, wa}, {a, 1 - 2 * a, wa},
+                                  {b, b, wb},           {1 - 2 * b, b, wb}, {b, 1 - 2 * b, wb}};
+  }();
+  return degree <= 2 ? two : five;
+}
+
+// The integrals u (mortar_dual.hpp) of slave facet xs (ns nodes) against master facet xm (nm
+// nodes), `cover` its share of the slave's reference area and `area` the covered current area.
+// False when they do not face each other or do not overlap.
+template <class T>
+bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover) {
+  const Reference& ref = reference(ns);
+  T N[4], Na[4], Nb[4];
+  shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
+  const V3<T> t1 = interpolate(ns, Na, xs), t2 = interpolate(ns, Nb, xs);
+  const V3<T> m0 = cross(t1, t2);
+  const V3<T> n0 = (1 / sqrt(dot(m0, m0))) * m0;
+  {  // facing: the master's normal at its centre points against n0
+    const Reference& mr = reference(nm);
+    Real M[4], Ma[4], Mb[4];
+    shape(nm, mr.centre.a, mr.centre.b, M, Ma, Mb);
+    V3<Real> xmv[4];
+    for (int i = 0; i < nm; ++i) xmv[i] = val(xm[i]);
+    if (dot(cross(interpolate(nm, Ma, xmv), interpolate(nm, Mb, xmv)), val(n0)) >= 0) return false;
+  }
+  // The master's corners in the slave's parameter plane, counter-clockwise.
+  std::vector<V2<T>> poly(nm);
+  for (int l = 0; l < nm; ++l)
+    if (!project_along(ns, xs, xm[l], t1, t2, poly[l])) return false;
+  Real signed_area = 0;
+  for (int l = 0; l < nm; ++l) {
+    const V2<T>& p = poly[l];
+    const V2<T>& q = poly[(l + 1) % nm];
+    signed_area += value(p.a) * value(q.b) - value(q.a) * value(p.b);
+  }
+  if (!(std::abs(signed_area) > 1e-12 * ref.area)) return false;
+  if (signed_area < 0) std::reverse(poly.begin(), poly.end());
+  const std::vector<V2<T>> cell = clip(poly, ref);
+  if (cell.size() < 3) return false;
+  const int nc = static_cast<int>(cell.size());
+  V2<T> c{T(0), T(0)};
+  for (const V2<T>& p : cell) c = c + p;
+  c = (1.0 / nc) * c;
+  Real covered = 0;
+  for (int i = 0; i < nc; ++i) covered += 0.5 * value(cross2(cell[i] - c, cell[(i + 1) % nc] - c));
+  if (!(covered > 1e-12 * ref.area)) return false;
+
+  for (int i = 0; i < num_u(ns); ++i) u[i] = T(0);
+  const std::vector<CellPoint>& rule = cell_rule(ns == 3 && nm == 3 ? 2 : 5);
+  Real current = 0;
+  for (int i = 0; i < nc; ++i) {
+    const V2<T> e1 = cell[i] - c, e2 = cell[(i + 1) % nc] - c;
+    const T det = cross2(e1, e2);
+    if (!(value(det) > 0)) continue;
+    for (const CellPoint& q : rule) {
+      const V2<T> xi = c + q.r * e1 + q.s * e2;
+      shape(ns, xi.a, xi.b, N, Na, Nb);
+      const V3<T> x = interpolate(ns, N, xs);
+      const V3<T> m = cross(interpolate(ns, Na, xs), interpolate(ns, Nb, xs));
+      V2<T> eta;
+      if (!project_along(nm, xm, x, t1, t2, eta)) return false;
+      T M[4], Ma[4], Mb[4];
+      shape(nm, eta.a, eta.b, M, Ma, Mb);
+      const T g = dot(interpolate(nm, M, xm) - x, n0);
+      const T w = (q.weight * det) * sqrt(dot(m, m));
+      current += value(w);
+      const T gw = g * w;
+      for (int k = 0; k < ns; ++k) {
+        u[k] += N[k] * gw;
+        const T nw = N[k] * w;
+        for (int j = 0; j <= k; ++j) u[m_index(ns, j, k)] += N[j] * nw;
+      }
+    }
+  }
+  area += current;
+  cover = covered / ref.area;
+  return true;
+}
+
+template <int NV>
+bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegrals& s, Real& area, Real& cover) {
+  using HD = HyperDual<NV>;
+  V3<HD> xs[4], xm[4];
+  auto input = [&](int i) {
+    return V3<HD>{HD::input(xl[i](0), 3 * i), HD::input(xl[i](1), 3 * i + 1), HD::input(xl[i](2), 3 * i + 2)};
+  };
+  for (int k = 0; k < ns; ++k) xs[k] = input(k);
+  for (int k = 0; k < nm; ++k) xm[k] = input(ns + k);
+  HD u[kMaxU];
+  if (!cell_integrals(ns, nm, xs, xm, u, area, cover)) return false;
+  const int nu = num_u(ns), nd = 3 * (ns + nm);
+  s.grad.resize(nu);
+  s.hess.resize(nu);
+  for (int k = 0; k < nu; ++k) {
+    s.u[k] = u[k].v;
+    s.grad[k] = u[k].g.head(nd);
+    s.hess[k] = u[k].h.topLeftCorner(nd, nd);
+  }
+  return true;
+}
+
+}  // namespace
+
+MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives) {
+  MortarFacetResult r;
+  const std::vector<Index>& sf = slave.facets[e];
+  const int ns = static_cast<int>(sf.size());
+  if (ns != 3 && ns != 4)
+    throw Error("mortar (3D): slave facets must be tri3 or quad4 (a facet has " + std::to_string(ns) + " nodes)");
+  const int nu = num_u(ns);
+  Real u[kMaxU] = {};
+  Real cover = 0, best = 0;
+  std::vector<SegmentIntegrals> cells;
+  V3<Real> xs[4], xm[4];
+  for (int k = 0; k < ns; ++k) xs[k] = {x[sf[k]](0), x[sf[k]](1), x[sf[k]](2)};
+  r.nodes.assign(sf.begin(), sf.end());
+  for (Index m : masters) {
+    const std::vector<Index>& mf = master.facets[m];
+    const int nm = static_cast<int>(mf.size());
+    if (nm != 3 && nm != 4)
+      throw Error("mortar (3D): master facets must be tri3 or quad4 (a facet has " + std::to_string(nm) + " nodes)");
+    for (int k = 0; k < nm; ++k) xm[k] = {x[mf[k]](0), x[mf[k]](1), x[mf[k]](2)};
+    // With derivatives the integrals are those of the hyper-dual evaluation (whose branch
+    // decisions, on values, may differ from a plain evaluation's by round-off at a degenerate
+    // overlap), so that values and derivatives always belong together.
+    Real us[kMaxU], c = 0, area = 0;
+    SegmentIntegrals s;
+    if (derivatives) {
+      s.nodes.assign(sf.begin(), sf.end());
+      s.nodes.insert(s.nodes.end(), mf.begin(), mf.end());
+      std::vector<Vec3> xl;
+      for (Index n : s.nodes) xl.push_back(x[n]);
+      bool ok = false;
+      switch (ns + nm) {
+        case 6: ok = cell_derivatives<18>(ns, nm, xl, s, area, c); break;
+        case 7: ok = cell_derivatives<21>(ns, nm, xl, s, area, c); break;
+        default: ok = cell_derivatives<24>(ns, nm, xl, s, area, c); break;
+      }
+      if (!ok) continue;
+      std::copy(s.u, s.u + nu, us);
+    } else if (!cell_integrals(ns, nm, xs, xm, us, area, c)) {
+      continue;
+    }
+    r.segment_length += area;
+    if (r.masters.empty() || c > best) r.facet = m, best = c;  // the master of the largest cover
+    r.masters.push_back(m);
+    cover += c;
+    for (int i = 0; i < nu; ++i) u[i] += us[i];
+    for (Index n : mf)
+      if (std::find(r.nodes.begin(), r.nodes.end(), n) == r.nodes.end()) r.nodes.push_back(n);
+    if (derivatives) cells.push_back(std::move(s));
+  }
+  // A sliver of cover: the dual basis on it is ill-conditioned (M nearly singular) while its
+  // weighted gaps are of the order of the cover times the gap; it is left out.
+  if (!(cover >= kMinCover)) {
+    r.masters.clear();
+    r.nodes.clear();
+    r.segment_length = 0;
+    return r;
+  }
+  r.overlap = true;
+  Real gap[kMaxNs];
+  dual_weighted_gaps(ns, u, false, gap);
+  r.gap.assign(gap, gap + ns);
+  if (derivatives) weighted_gap_derivatives(3, ns, u, false, cells, r);
+  return r;
+}
+
+}  // namespace signorini

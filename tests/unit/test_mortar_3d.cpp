@@ -1,0 +1,205 @@
+// The 3D dual mortar kinematics on linear facets (contact/discretization/mortar_3d.cpp): the
+// clipped cells tile the slave surface without gap or overlap (their areas sum to the slave's
+// area, and a uniform gap gives every node its gap times its nodal area), and the weighted gaps'
+// gradients and Hessians match central differences on curved, rotated, non-matching sheets
+// where the master covers some slave facets only in part; every pairing of tri3 and quad4.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "signorini/contact/discretization/mortar.hpp"
+
+using namespace signorini;
+
+namespace {
+
+// A slave sheet of n x n squares over [-1, 1]^2 at height zs(x, y) (outward normal up, +z),
+// under a master sheet of m x m squares over [lo, hi]^2, rotated by `angle` about z, at height
+// zm(x, y) (outward normal down). Squares are quad4 facets or two tri3 each. Nodes: slave first.
+struct TwoSheets {
+  MasterSurface slave, master;
+  std::vector<Vec3> x;
+  TwoSheets(int n, bool slave_tri, int m, bool master_tri, Real lo, Real hi, Real angle, Real (*zs)(Real, Real),
+            Real (*zm)(Real, Real)) {
+    auto sheet = [&](MasterSurface& s, int k, bool tri, Real a, Real b, Real rot, Real (*z)(Real, Real), bool up) {
+      const Index first = static_cast<Index>(x.size());
+      for (int j = 0; j <= k; ++j)
+        for (int i = 0; i <= k; ++i) {
+          const Real u = a + (b - a) * i / k, v = a + (b - a) * j / k;
+          const Real X = std::cos(rot) * u - std::sin(rot) * v, Y = std::sin(rot) * u + std::cos(rot) * v;
+          x.emplace_back(X, Y, z(X, Y));
+        }
+      auto id = [&](int i, int j) { return first + j * (k + 1) + i; };
+      auto add = [&](std::vector<Index> f) {
+        if (!up) std::reverse(f.begin(), f.end());
+        s.type.push_back(f.size() == 3 ? ElementType::tri3 : ElementType::quad4);
+        s.facets.push_back(f);
+      };
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i) {
+          if (tri) {
+            add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+          } else {
+            add({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+          }
+        }
+      for (int i = 0; i < (k + 1) * (k + 1); ++i) s.nodes.push_back(first + i);
+    };
+    sheet(slave, n, slave_tri, -1, 1, 0, zs, true);
+    sheet(master, m, master_tri, lo, hi, angle, zm, false);
+    for (MasterSurface* s : {&slave, &master}) {
+      s->node_facets.assign(x.size(), {});
+      for (Index f = 0; f < s->size(); ++f)
+        for (Index k : s->facets[f]) s->node_facets[k].push_back(f);
+    }
+  }
+  // The weighted gap of every slave node (mesh index), with gradients and Hessians over all nodes.
+  std::vector<Real> weighted_gaps(std::vector<VecX>* grad = nullptr, std::vector<MatX>* hess = nullptr,
+                                  Real* area = nullptr) const {
+    const Index nd = 3 * static_cast<Index>(x.size());
+    const size_t ns = slave.nodes.size();
+    std::vector<Real> g(ns, 0.0);
+    if (grad) grad->assign(ns, VecX::Zero(nd));
+    if (hess) hess->assign(ns, MatX::Zero(nd, nd));
+    std::vector<Index> all(static_cast<size_t>(master.size()));
+    for (Index m = 0; m < master.size(); ++m) all[m] = m;
+    for (Index e = 0; e < slave.size(); ++e) {
+      const MortarFacetResult r = mortar_element_3d(slave, e, master, all, x, grad != nullptr);
+      if (!r.overlap) continue;
+      if (area) *area += r.segment_length;
+      for (size_t k = 0; k < slave.facets[e].size(); ++k) {
+        const Index j = slave.facets[e][k];
+        g[j] += r.gap[k];
+        if (!grad) continue;
+        for (size_t a = 0; a < r.nodes.size(); ++a) {
+          (*grad)[j].segment(3 * r.nodes[a], 3) += r.grad[k].segment(3 * a, 3);
+          for (size_t b = 0; b < r.nodes.size(); ++b)
+            (*hess)[j].block(3 * r.nodes[a], 3 * r.nodes[b], 3, 3) += r.hess[k].block(3 * a, 3 * b, 3, 3);
+        }
+      }
+    }
+    return g;
+  }
+};
+
+Real flat0(Real, Real) { return 0; }
+Real flat_gap(Real, Real) { return 0.1; }
+Real dome(Real X, Real Y) { return -0.15 * (X * X + 0.6 * Y * Y) + 0.05 * X; }
+Real wavy(Real X, Real Y) { return 0.04 + 0.08 * X - 0.05 * Y + 0.1 * X * Y - 0.05 * Y * Y; }
+
+struct Pairing {
+  bool slave_tri, master_tri;
+};
+const Pairing kPairings[] = {{false, false}, {false, true}, {true, false}, {true, true}};
+std::string pairing_name(const Pairing& p) {
+  return std::string(p.slave_tri ? "tri3" : "quad4") + " on " + (p.master_tri ? "tri3" : "quad4");
+}
+
+}  // namespace
+
+// Flat sheets 0.1 apart, the master grid rotated by 0.3 rad and covering the whole slave: the
+// cells' areas sum to the slave's area 4 and each node's weighted gap is 0.1 times its nodal
+// area int N_j dA (its share of the facets around it), to round-off.
+TEST(Mortar3d, CellsTileTheSlaveAndAUniformGapIsExact) {
+  for (const Pairing& p : kPairings) {
+    SCOPED_TRACE(pairing_name(p));
+    const int n = 3;
+    const TwoSheets s(n, p.slave_tri, 4, p.master_tri, -1.6, 1.6, 0.3, flat0, flat_gap);
+    Real area = 0;
+    const std::vector<Real> g = s.weighted_gaps(nullptr, nullptr, &area);
+    EXPECT_NEAR(area, 4.0, 1e-12) << "the cells tile the slave sheet";
+    const Real h = 2.0 / n;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const int node = j * (n + 1) + i;
+        // Nodal area: a quarter of each square around (quad4); a third of each triangle.
+        int squares = 0, triangles = 0;
+        for (Index f = 0; f < s.slave.size(); ++f)
+          for (Index k : s.slave.facets[f])
+            if (k == node) (s.slave.facets[f].size() == 3 ? triangles : squares) += 1;
+        const Real nodal = squares * h * h / 4 + triangles * h * h / 6;
+        EXPECT_NEAR(g[node], 0.1 * nodal, 1e-13) << "node " << node;
+      }
+  }
+}
+
+// Curved, tilted sheets; the rotated master covers part of the slave only (facets partly
+// covered along two sides): gradients of every slave node's weighted gap against central
+// differences in every coordinate, Hessians along 8 directions.
+TEST(Mortar3d, WeightedGapsMatchCentralDifferences) {
+  for (const Pairing& p : kPairings) {
+    SCOPED_TRACE(pairing_name(p));
+    TwoSheets s(2, p.slave_tri, 3, p.master_tri, -0.83, 1.4, 0.37, dome, wavy);
+    std::vector<VecX> grad;
+    std::vector<MatX> hess;
+    const std::vector<Real> g = s.weighted_gaps(&grad, &hess);
+    int covered = 0;
+    for (size_t j = 0; j < g.size(); ++j) covered += g[j] != 0;
+    ASSERT_GE(covered, 4) << "the master overlaps the slave";
+    const Real step = 1e-6;
+    Real max_grad = 0, max_hess = 0, err_grad = 0, err_hess = 0;
+    for (size_t j = 0; j < g.size(); ++j) max_grad = std::max(max_grad, grad[j].cwiseAbs().maxCoeff()),
+                                          max_hess = std::max(max_hess, hess[j].cwiseAbs().maxCoeff());
+    // The gradient coordinate by coordinate (values only); the Hessian along 8 pseudo-random
+    // directions d, against the central difference of the gradient along d.
+    const Index nd = 3 * static_cast<Index>(s.x.size());
+    for (Index c = 0; c < nd; ++c) {
+      Real& xc = s.x[c / 3](c % 3);
+      const Real x0 = xc;
+      xc = x0 + step;
+      const std::vector<Real> fp = s.weighted_gaps();
+      xc = x0 - step;
+      const std::vector<Real> fm = s.weighted_gaps();
+      xc = x0;
+      for (size_t j = 0; j < g.size(); ++j)
+        err_grad = std::max(err_grad, std::abs((fp[j] - fm[j]) / (2 * step) - grad[j](c)));
+    }
+    unsigned seed = 12345;
+    auto random = [&] {
+      seed = seed * 1103515245u + 12345u;
+      return static_cast<Real>((seed >> 8) % 2001) / 1000.0 - 1.0;
+    };
+    for (int k = 0; k < 8; ++k) {
+      VecX d(nd);
+      for (Index c = 0; c < nd; ++c) d(c) = random();
+      const std::vector<Vec3> x0 = s.x;
+      std::vector<VecX> gp, gm;
+      std::vector<MatX> hp, hm;
+      for (Index c = 0; c < nd; ++c) s.x[c / 3](c % 3) = x0[c / 3](c % 3) + step * d(c);
+      s.weighted_gaps(&gp, &hp);
+      for (Index c = 0; c < nd; ++c) s.x[c / 3](c % 3) = x0[c / 3](c % 3) - step * d(c);
+      s.weighted_gaps(&gm, &hm);
+      s.x = x0;
+      for (size_t j = 0; j < g.size(); ++j)
+        err_hess = std::max(err_hess, ((gp[j] - gm[j]) / (2 * step) - hess[j] * d).cwiseAbs().maxCoeff());
+    }
+    EXPECT_GT(max_hess, 0);
+    EXPECT_LT(err_grad, 1e-7 * max_grad) << "gradient";
+    EXPECT_LT(err_hess, 1e-6 * max_hess) << "Hessian";
+  }
+}
+
+// A gap field the slave basis does not interpolate but that is linear on each facet: a tilted flat
+// master over a flat slave gives each fully covered node the integral of the gap against its dual
+// function, which for a linear gap is D_jj times the gap at the node (biorthogonality).
+TEST(Mortar3d, LinearGapIsReproducedAtTheNodes) {
+  for (const Pairing& p : kPairings) {
+    SCOPED_TRACE(pairing_name(p));
+    auto tilted = [](Real X, Real Y) { return 0.2 + 0.05 * X - 0.03 * Y; };
+    const TwoSheets s(2, p.slave_tri, 5, p.master_tri, -1.7, 1.7, 0.21, flat0, +tilted);
+    const std::vector<Real> g = s.weighted_gaps();
+    // Weights: the nodal areas of the flat slave sheet (as in the first test).
+    std::vector<Real> w(g.size(), 0.0);
+    for (Index f = 0; f < s.slave.size(); ++f) {
+      const auto& fc = s.slave.facets[f];
+      const Real a = fc.size() == 3 ? 0.5 : 1.0;  // facet area (h = 1)
+      for (Index k : fc) w[k] += a / static_cast<Real>(fc.size());
+    }
+    for (size_t j = 0; j < g.size(); ++j) {
+      const Vec3& X = s.x[j];
+      // The gap along the slave normal (+z) to the plane z = 0.2 + 0.05 x - 0.03 y.
+      EXPECT_NEAR(g[j] / w[j], 0.2 + 0.05 * X(0) - 0.03 * X(1), 1e-12) << "node " << j;
+    }
+  }
+}
