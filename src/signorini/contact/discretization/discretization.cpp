@@ -576,7 +576,9 @@ class Mortar final : public DeformableMaster {
 
   void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     if (self_) self_candidates(x, dmax);
-    else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_);
+    // 3D: the margin bounded by the facet's distance, size and the motion expected, as for
+    // segment_to_segment (each candidate pair costs a clipping on hyper-dual numbers).
+    else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_, dim_ == 3 ? motion : -1);
   }
 
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {

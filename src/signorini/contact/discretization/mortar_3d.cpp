@@ -302,6 +302,22 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
   std::vector<V2<T>> poly(nm);
   for (int l = 0; l < nm; ++l)
     if (!project_along(ns, xs, xm[l], t1, t2, poly[l])) return false;
+  // A tri3 slave is flat, its Jacobian |a_1 x a_2| = |m0| constant; on a tri3 master as well,
+  // the gap along n0 is affine in the slave parameter: g = g0 + ga xi_a + gb xi_b, the
+  // interpolation of the master corners' heights h_l = (y_l - x_0) . n0 over their projections
+  // xi_l (barycentric coordinates of the projected master triangle). Both evaluated once per pair.
+  const bool flat = ns == 3, affine = ns == 3 && nm == 3;
+  const T jac_flat = flat ? sqrt(dot(m0, m0)) : T(0);
+  T g0(0), ga(0), gb(0);
+  if (affine) {
+    const V2<T> e1 = poly[1] - poly[0], e2 = poly[2] - poly[0];
+    const T h0 = dot(xm[0] - xs[0], n0);
+    const T dh1 = dot(xm[1] - xs[0], n0) - h0, dh2 = dot(xm[2] - xs[0], n0) - h0;
+    const T inv = 1 / cross2(e1, e2);
+    ga = (e2.b * dh1 - e1.b * dh2) * inv;
+    gb = (e1.a * dh2 - e2.a * dh1) * inv;
+    g0 = h0 - ga * poly[0].a - gb * poly[0].b;
+  }
   Real signed_area = 0;
   for (int l = 0; l < nm; ++l) {
     const V2<T>& p = poly[l];
@@ -330,14 +346,24 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
     for (const CellPoint& q : rule) {
       const V2<T> xi = c + q.r * e1 + q.s * e2;
       shape(ns, xi.a, xi.b, N, Na, Nb);
-      const V3<T> x = interpolate(ns, N, xs);
-      const V3<T> m = cross(interpolate(ns, Na, xs), interpolate(ns, Nb, xs));
-      V2<T> eta;
-      if (!project_along(nm, xm, x, t1, t2, eta)) return false;
-      T M[4], Ma[4], Mb[4];
-      shape(nm, eta.a, eta.b, M, Ma, Mb);
-      const T g = dot(interpolate(nm, M, xm) - x, n0);
-      const T w = (q.weight * det) * sqrt(dot(m, m));
+      T g, jac;
+      if (affine) {
+        g = g0 + ga * xi.a + gb * xi.b;
+      } else {
+        const V3<T> x = interpolate(ns, N, xs);
+        V2<T> eta;
+        if (!project_along(nm, xm, x, t1, t2, eta)) return false;
+        T M[4], Ma[4], Mb[4];
+        shape(nm, eta.a, eta.b, M, Ma, Mb);
+        g = dot(interpolate(nm, M, xm) - x, n0);
+      }
+      if (flat) {
+        jac = jac_flat;
+      } else {
+        const V3<T> m = cross(interpolate(ns, Na, xs), interpolate(ns, Nb, xs));
+        jac = sqrt(dot(m, m));
+      }
+      const T w = (q.weight * det) * jac;
       current += value(w);
       const T gw = g * w;
       for (int k = 0; k < ns; ++k) {
