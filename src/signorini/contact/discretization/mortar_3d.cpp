@@ -263,6 +263,18 @@ std::vector<V2<T>> clip(const std::vector<V2<T>>& subject, const Reference& ref)
   return merged;
 }
 
+// Twice the signed area of a polygon of the parameter plane (shoelace), on its values.
+template <class T>
+Real twice_signed_area(const std::vector<V2<T>>& poly) {
+  Real a = 0;
+  for (size_t l = 0; l < poly.size(); ++l) {
+    const V2<T>& p = poly[l];
+    const V2<T>& q = poly[(l + 1) % poly.size()];
+    a += value(p.a) * value(q.b) - value(q.a) * value(p.b);
+  }
+  return a;
+}
+
 // The rule on a triangular cell (reference triangle (0,0), (1,0), (0,1); weights sum to 1/2):
 // degree 5, 7 points (Radon's rule; Stroud 1971, T2:5-1), exact for M_ik of a parallelogram quad4
 // slave (biquadratic) and otherwise close. A tri3 slave on a tri3 master needs no rule (the
@@ -290,7 +302,8 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
   shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
   const V3<T> t1 = interpolate(ns, Na, xs), t2 = interpolate(ns, Nb, xs);
   const V3<T> m0 = cross(t1, t2);
-  const V3<T> n0 = (1 / sqrt(dot(m0, m0))) * m0;
+  const T m0_length = sqrt(dot(m0, m0));
+  const V3<T> n0 = (1 / m0_length) * m0;
   {  // facing: the master's normal at its centre points against n0
     const Reference& mr = reference(nm);
     Real M[4], Ma[4], Mb[4];
@@ -321,7 +334,7 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
   // the gap along n0 is affine in the slave parameter: g = g0 + ga xi_a + gb xi_b, the
   // interpolation of the master corners' heights h_l = (y_l - x_0) . n0 over their projections
   // xi_l (barycentric coordinates of the projected master triangle). Both evaluated once per pair.
-  const T jac_flat = flat ? sqrt(dot(m0, m0)) : T(0);
+  const T jac_flat = flat ? m0_length : T(0);
   T g0(0), ga(0), gb(0);
   if (affine) {
     const V2<T> e1 = poly[1] - poly[0], e2 = poly[2] - poly[0];
@@ -332,22 +345,13 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
     gb = (e1.a * dh2 - e2.a * dh1) * inv;
     g0 = h0 - ga * poly[0].a - gb * poly[0].b;
   }
-  Real signed_area = 0;
-  for (int l = 0; l < nm; ++l) {
-    const V2<T>& p = poly[l];
-    const V2<T>& q = poly[(l + 1) % nm];
-    signed_area += value(p.a) * value(q.b) - value(q.a) * value(p.b);
-  }
+  const Real signed_area = 0.5 * twice_signed_area(poly);
   if (!(std::abs(signed_area) > 1e-12 * ref.area)) return false;
   if (signed_area < 0) std::reverse(poly.begin(), poly.end());
   const std::vector<V2<T>> cell = clip(poly, ref);
   if (cell.size() < 3) return false;
   const int nc = static_cast<int>(cell.size());
-  V2<T> c{T(0), T(0)};
-  for (const V2<T>& p : cell) c = c + p;
-  c = (1.0 / nc) * c;
-  Real covered = 0;
-  for (int i = 0; i < nc; ++i) covered += 0.5 * value(cross2(cell[i] - c, cell[(i + 1) % nc] - c));
+  const Real covered = 0.5 * twice_signed_area(cell);
   if (!(covered > 1e-12 * ref.area)) return false;
 
   for (int i = 0; i < num_u(ns); ++i) u[i] = T(0);
@@ -387,6 +391,10 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
     }
     current = value(jac_flat) * value(m1);
   } else {
+    // The integration cells: triangles from the clipped polygon's centroid.
+    V2<T> c{T(0), T(0)};
+    for (const V2<T>& p : cell) c = c + p;
+    c = (1.0 / nc) * c;
     const std::vector<CellPoint>& rule = cell_rule();
     for (int i = 0; i < nc; ++i) {
       const V2<T> e1 = cell[i] - c, e2 = cell[(i + 1) % nc] - c;
