@@ -230,7 +230,9 @@ void check_combination(const ContactCombination& c, int theta = 1) {
           p->state().slip[j] ? ++slip : ++stick;
       }
     ASSERT_GT(closed, 0) << "no closed node: the check would be empty";
-    if (three && c.discretization == "mortar") ASSERT_GT(open, 0) << "no open node: one branch unchecked";
+    if (three && c.discretization == "mortar") {
+      ASSERT_GT(open, 0) << "no open node: one branch unchecked";
+    }
     // Nitsche decides per integration point: both branches (P > 0 and P <= 0) must be in the check.
     for (auto& p : pairs)
       if (const auto* pts = p->integration_points()) {
@@ -317,8 +319,9 @@ TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {
 }
 
 // 3D mortar's combinations on their own (its weighted gaps' derivatives are hyper-dual numbers
-// over up to 24 coordinates per pair of facets: 8 s per row, 95 s), beside the rest of the 3D
-// table.
+// over up to 24 coordinates per pair of facets), beside the rest of the 3D table: 36 rows, 37 s
+// (305 s before the residuals of the central differences were differentiated to first order
+// only, Discretization::set_second_variation).
 TEST(TangentGrid, Every3DMortarCombinationMatchesCentralDifferences) {
   OneThread one;
   for (const ContactCombination& c : supported_contact_combinations())
@@ -396,7 +399,7 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   EXPECT_EQ(check_contact_combination(mortar3d_quadratic).key, "discretization");
   ContactCombination mortar3d_friction = mortar3d;
   mortar3d_friction.friction = "coulomb";
-  EXPECT_EQ(check_contact_combination(mortar3d_friction).key, "friction");
+  EXPECT_TRUE(check_contact_combination(mortar3d_friction).message.empty()) << "3D mortar with friction";
   ContactCombination mortar3d_self = mortar3d;
   mortar3d_self.self = true;
   EXPECT_EQ(check_contact_combination(mortar3d_self).key, "self");

@@ -203,3 +203,70 @@ TEST(Mortar3d, LinearGapIsReproducedAtTheNodes) {
     }
   }
 }
+
+// Friction's slip (mortar.hpp, `relative`, `slip_weight`): per slave node of each facet, the
+// average of x_s - x_m over the facet's cells as a combination of nodes. Its slave coefficients
+// sum to its weight and its master ones to minus it (a common translation gives no slip); on
+// flat sheets 0.01 apart it is (0, 0, -0.01) (the points pair along the normal), and with the
+// coefficients frozen, the master moved by (0.03, -0.02, 0) gives (-0.03, 0.02, -0.01).
+TEST(Mortar3d, SlipCombinationMeasuresTheRelativeMotion) {
+  auto gap = [](Real, Real) { return 0.01; };
+  for (const Pairing& p : kPairings) {
+    SCOPED_TRACE(pairing_name(p));
+    const TwoSheets s(3, p.slave_tri, 4, p.master_tri, -1.6, 1.6, 0.3, flat0, +gap);
+    const Index first_master = static_cast<Index>(s.slave.nodes.size());
+    std::vector<Vec3> moved = s.x;
+    for (size_t i = first_master; i < moved.size(); ++i) moved[i] += Vec3(0.03, -0.02, 0);
+    std::vector<Index> all(static_cast<size_t>(s.master.size()));
+    for (Index m = 0; m < s.master.size(); ++m) all[m] = m;
+    for (Index e = 0; e < s.slave.size(); ++e) {
+      const MortarFacetResult r = mortar_element_3d(s.slave, e, s.master, all, s.x, false);
+      ASSERT_TRUE(r.overlap) << e;
+      ASSERT_EQ(r.relative.size(), s.slave.facets[e].size());
+      for (size_t k = 0; k < r.relative.size(); ++k) {
+        Real slave_sum = 0, master_sum = 0;
+        Vec3 now = Vec3::Zero(), after = Vec3::Zero();
+        for (size_t a = 0; a < r.nodes.size(); ++a) {
+          const Real w = r.relative[k](static_cast<Index>(a));
+          (r.nodes[a] < first_master ? slave_sum : master_sum) += w;
+          now += w * s.x[r.nodes[a]];
+          after += w * moved[r.nodes[a]];
+        }
+        const Real W = r.slip_weight[k];
+        ASSERT_GT(W, 0) << "facet " << e << " node " << k;
+        EXPECT_NEAR(slave_sum, W, 1e-14);
+        EXPECT_NEAR(master_sum, -W, 1e-14);
+        EXPECT_LT((now / W - Vec3(0, 0, -0.01)).norm(), 1e-14) << now.transpose() / W;
+        EXPECT_LT((after / W - Vec3(-0.03, 0.02, -0.01)).norm(), 1e-14) << after.transpose() / W;
+      }
+    }
+  }
+}
+
+// Without the Hessian (a residual only, Discretization::set_second_variation) the weighted gaps
+// are differentiated on first-order dual numbers: the same gaps and gradients as with the
+// Hessian, to round-off, and no Hessian.
+TEST(Mortar3d, GradientOnlyAgreesWithTheFullDerivatives) {
+  for (const Pairing& p : kPairings) {
+    SCOPED_TRACE(pairing_name(p));
+    const TwoSheets s(2, p.slave_tri, 3, p.master_tri, -0.83, 1.4, 0.37, dome, wavy);
+    std::vector<Index> all(static_cast<size_t>(s.master.size()));
+    for (Index m = 0; m < s.master.size(); ++m) all[m] = m;
+    int compared = 0;
+    for (Index e = 0; e < s.slave.size(); ++e) {
+      const MortarFacetResult full = mortar_element_3d(s.slave, e, s.master, all, s.x, true, true);
+      const MortarFacetResult first = mortar_element_3d(s.slave, e, s.master, all, s.x, true, false);
+      ASSERT_EQ(full.overlap, first.overlap);
+      if (!full.overlap) continue;
+      ASSERT_EQ(full.nodes, first.nodes);
+      EXPECT_TRUE(first.hess.empty());
+      ASSERT_EQ(full.hess.size(), full.gap.size());
+      for (size_t k = 0; k < full.gap.size(); ++k) {
+        EXPECT_NEAR(first.gap[k], full.gap[k], 1e-15);
+        EXPECT_LT((first.grad[k] - full.grad[k]).cwiseAbs().maxCoeff(), 1e-13 * full.grad[k].cwiseAbs().maxCoeff());
+        ++compared;
+      }
+    }
+    EXPECT_GE(compared, 4);
+  }
+}

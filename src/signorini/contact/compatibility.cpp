@@ -88,15 +88,6 @@ const std::vector<Rule>& rules() {
                 std::string(element_info(linear(c.slave_facet) ? c.master_facet : c.slave_facet).name) +
                 ": use segment_to_segment on quadratic surfaces (tet10, hex20, hex27)";
        }},
-      {"mortar in 3D with friction",
-       [](const ContactCombination& c) {
-         return c.discretization == "mortar" && !is_2d(c.dimension) && c.friction != "none";
-       },
-       "friction",
-       [](const ContactCombination&) {
-         return std::string("mortar in 3D is frictionless so far: with friction use segment_to_segment (linear "
-                            "master facets) or node_to_segment");
-       }},
       {"self-contact with mortar in 3D",
        [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && !is_2d(c.dimension); },
        "self",

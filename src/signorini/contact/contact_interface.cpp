@@ -234,7 +234,9 @@ void ContactInterface::add_rigid_rotations(Constraint& c, const VecX& z) const {
 
 void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual,
                                 GlobalMatrix* K, const std::vector<char>* fixed) {
+  discretization_->set_second_variation(K != nullptr);
   build_constraints(x, z);
+  discretization_->set_second_variation(true);
   EnforcementInput in;
   in.constraints = &constraints_;
   in.dofs = &dofs;

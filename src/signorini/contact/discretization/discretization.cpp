@@ -287,6 +287,7 @@ class DeformableMaster : public Discretization {
             c.gap += res.gap[k];
             for (size_t a = 0; a < at.size(); ++a) {
               c.grad.segment(at[a] * dim, dim) += res.grad[k].segment(static_cast<Index>(a) * dim, dim);
+              if (res.hess.empty()) continue;  // gradients only (Discretization::set_second_variation)
               for (size_t b = 0; b < at.size(); ++b)
                 c.hess.block(at[a] * dim, at[b] * dim, dim, dim) +=
                     res.hess[k].block(static_cast<Index>(a) * dim, static_cast<Index>(b) * dim, dim, dim);
@@ -525,7 +526,7 @@ class NodeToNode final : public DeformableMaster {
 };
 
 
-// Dual mortar (2D; 3D on tri3 and quad4 facets, frictionless: mortar.hpp): one weighted gap per
+// Dual mortar (2D; 3D on tri3 and quad4 facets: mortar.hpp): one weighted gap per
 // slave node, integrated over the segments
 // of its slave facets against the master facets they overlap. The constraint's gap is
 // g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that
@@ -582,7 +583,9 @@ class Mortar final : public DeformableMaster {
   }
 
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
-    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], true, nodes);
+    // 2D: the ring of facets around (the averaged normals along the facet); 3D: the gap is
+    // measured along the facet's own normal, and the slip normal is the node's.
+    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], dim_ == 2, nodes);
   }
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
@@ -594,7 +597,7 @@ class Mortar final : public DeformableMaster {
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
       MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
-                                      : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true);
+                                      : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));

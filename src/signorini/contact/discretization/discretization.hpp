@@ -52,6 +52,10 @@ class Discretization {
   // One constraint per slave node at positions x and unknowns z: kind, gap, normal, grad,
   // hess, normal_jacobian and master_weights (open constraints beyond dmax).
   virtual void build(const std::vector<Vec3>& x, const VecX& z, Real dmax, ConstraintSet& out) const = 0;
+  // Whether the next builds need the gaps' second variations (hess: the Newton matrix) or may
+  // leave them zero (a residual only: a line search's trial point, a finite difference, the
+  // slip origins). 3D mortar then differentiates to first order only; the others ignore it.
+  void set_second_variation(bool on) { second_variation_ = on; }
   // Whether enforcement's nodal pressure p_j is the pressure to report at slave node j:
   // segment_to_segment, whose p_j is the coefficient of the dual basis in the traction per
   // reference area, p_j = int N~_j t dA0 / int N~_j dA0, a positive-weighted average of the
@@ -71,6 +75,9 @@ class Discretization {
   // owning cell), and the integration points of the last build (null: none).
   virtual void set_boundary_traction(const BoundaryTraction*);
   virtual const std::vector<PointConstraint>* integration_points() const { return nullptr; }
+
+ protected:
+  bool second_variation_ = true;
 };
 
 // The discretization the settings name (a rigid obstacle when s.rigid), for the given slave

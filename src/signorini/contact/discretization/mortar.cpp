@@ -334,8 +334,10 @@ void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, boo
   for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
   dual_weighted_gaps(ns, uh, positive_basis, gh);
   const Index nd = dim * static_cast<Index>(r.nodes.size());
+  // Without the segments' Hessians (3D, a residual only): gradients only, r.hess empty.
+  const bool hessian = std::all_of(segments.begin(), segments.end(), [](const SegmentIntegrals& s) { return !s.hess.empty(); });
   r.grad.assign(ns, VecX::Zero(nd));
-  r.hess.assign(ns, MatX::Zero(nd, nd));
+  if (hessian) r.hess.assign(ns, MatX::Zero(nd, nd));
   // The segments' nodes in the element's numbering, and the gradients of the summed u there.
   std::vector<std::vector<Index>> at(segments.size());
   MatX Gsum = MatX::Zero(nd, nu);
@@ -351,6 +353,7 @@ void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, boo
     const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
     const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
     r.grad[j] = Gsum * fa.head(nu);
+    if (!hessian) continue;
     r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
     for (size_t p = 0; p < segments.size(); ++p) {
       const SegmentIntegrals& s = segments[p];

@@ -66,10 +66,13 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
 // (mortar_3d.cpp): the master facets' corners projected along the slave facet's centre normal
 // onto its parameter plane, clipped against its reference element, the clipped polygon
 // integrated in triangles from its centroid; the dual basis on the covered part as in 2D.
-// `segment_length` is the covered current area; `relative` and `slip_weight` stay empty
-// (frictionless).
+// `segment_length` is the covered current area; `relative` and `slip_weight` from the cells'
+// rule points (N~ = N, non-negative on tri3 and quad4). Without `hessian` (a residual without its
+// Newton matrix) the derivatives are gradients only (`hess` stays empty), on first-order dual
+// numbers: a sixth of the time on the tet4 Hertz sphere.
 MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
-                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives);
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives,
+                                    bool hessian = true);
 
 // The reference weight int N_j dA0 of each slave node (indexed by mesh node, 0 elsewhere; X the
 // reference positions); with `positive_basis`, of the transformed line3 basis (mortar.cpp).

@@ -30,9 +30,11 @@
 // facets' nodes too); on a flat interface the two agree.
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/mortar_dual.hpp"
+#include "signorini/contact/geometry/dual.hpp"
 #include "signorini/contact/geometry/hyper_dual.hpp"
 #include "signorini/core/error.hpp"
 
@@ -292,11 +294,20 @@ const std::vector<CellPoint>& cell_rule() {
   return five;
 }
 
+// One integration point of the cells, for friction's slip (plain numbers): the slave and master
+// shape functions there and the point's weight (rule weight times current dA).
+struct CellSample {
+  Real N[4], M[4], w;
+};
+
 // The integrals u (mortar_dual.hpp) of slave facet xs (ns nodes) against master facet xm (nm
 // nodes), `cover` its share of the slave's reference area and `area` the covered current area.
-// False when they do not face each other or do not overlap.
+// False when they do not face each other or do not overlap. With `points`, the cells' rule
+// points too (tri3 on tri3 as well, whose integrals need no rule: the slip integrands N_k N_i are
+// quadratic, which the rule integrates exactly).
 template <class T>
-bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover) {
+bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover,
+                    std::vector<CellSample>* points = nullptr) {
   const Reference& ref = reference(ns);
   T N[4], Na[4], Nb[4];
   shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
@@ -390,7 +401,8 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
                         (be[j] * gm[k] + be[k] * gm[j]) * mab + (gm[j] * gm[k]) * mbb);
     }
     current = value(jac_flat) * value(m1);
-  } else {
+  }
+  if (!affine || points) {
     // The integration cells: triangles from the clipped polygon's centroid.
     V2<T> c{T(0), T(0)};
     for (const V2<T>& p : cell) c = c + p;
@@ -405,10 +417,12 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
         shape(ns, xi.a, xi.b, N, Na, Nb);
         const V3<T> x = interpolate(ns, N, xs);
         V2<T> eta;
-        if (!project_along(nm, xm, x, t1, t2, eta)) return false;
+        if (!project_along(nm, xm, x, t1, t2, eta)) {
+          if (affine) continue;  // only the slip's points (the integrals came from the moments)
+          return false;
+        }
         T M[4], Ma[4], Mb[4];
         shape(nm, eta.a, eta.b, M, Ma, Mb);
-        const T g = dot(interpolate(nm, M, xm) - x, n0);
         T jac;
         if (flat) {
           jac = jac_flat;
@@ -417,6 +431,15 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
           jac = sqrt(dot(m, m));
         }
         const T w = (q.weight * det) * jac;
+        if (points) {
+          CellSample p{};
+          for (int k = 0; k < ns; ++k) p.N[k] = value(N[k]);
+          for (int k = 0; k < nm; ++k) p.M[k] = value(M[k]);
+          p.w = value(w);
+          points->push_back(p);
+        }
+        if (affine) continue;
+        const T g = dot(interpolate(nm, M, xm) - x, n0);
         current += value(w);
         const T gw = g * w;
         for (int k = 0; k < ns; ++k) {
@@ -437,9 +460,9 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
 // nothing), so the hyper-dual inputs are the other nodes' coordinates relative to the first
 // (3 (ns + nm - 1) of them: every product costs NV^2, 15^2 against 18^2 for tri3 on tri3), and the
 // first node's derivatives follow: d/dx_0 = -sum_i d/dx_i, i.e. grad = P g and hess = P H P^T.
-template <int NV>
+// HD = HyperDual<NV> (gradients and Hessians) or Dual<NV> (gradients only: s.hess stays empty).
+template <class HD>
 bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegrals& s, Real& area, Real& cover) {
-  using HD = HyperDual<NV>;
   V3<HD> xs[4], xm[4];
   auto input = [&](int i) {
     if (i == 0) return V3<HD>{HD(xl[0](0)), HD(xl[0](1)), HD(xl[0](2))};
@@ -455,11 +478,13 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
   P.bottomRows(nr).setIdentity();
   for (int i = 0; i < nr; ++i) P(i % 3, i) = -1;
   s.grad.resize(nu);
-  s.hess.resize(nu);
   for (int k = 0; k < nu; ++k) {
     s.u[k] = u[k].v;
     s.grad[k] = P * u[k].g.head(nr);
-    s.hess[k] = P * u[k].h.topLeftCorner(nr, nr) * P.transpose();
+  }
+  if constexpr (!std::is_same_v<HD, Dual<HD::Vec::RowsAtCompileTime>>) {
+    s.hess.resize(nu);
+    for (int k = 0; k < nu; ++k) s.hess[k] = P * u[k].h.topLeftCorner(nr, nr) * P.transpose();
   }
   return true;
 }
@@ -467,7 +492,8 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
 }  // namespace
 
 MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
-                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives) {
+                                    const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives,
+                                    bool hessian) {
   MortarFacetResult r;
   const std::vector<Index>& sf = slave.facets[e];
   const int ns = static_cast<int>(sf.size());
@@ -480,6 +506,9 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   V3<Real> xs[4], xm[4];
   for (int k = 0; k < ns; ++k) xs[k] = {x[sf[k]](0), x[sf[k]](1), x[sf[k]](2)};
   r.nodes.assign(sf.begin(), sf.end());
+  std::vector<CellSample> points;
+  std::vector<VecX> relative(ns, VecX::Zero(ns));
+  std::vector<Real> slip_weight(ns, 0.0);
   for (Index m : masters) {
     const std::vector<Index>& mf = master.facets[m];
     const int nm = static_cast<int>(mf.size());
@@ -491,7 +520,8 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
     // of the hyper-dual evaluation (whose branch decisions, on values, may differ from the plain
     // one's by round-off at a degenerate overlap), so that values and derivatives belong together.
     Real us[kMaxU], c = 0, area = 0;
-    if (!cell_integrals(ns, nm, xs, xm, us, area, c)) continue;
+    points.clear();
+    if (!cell_integrals(ns, nm, xs, xm, us, area, c, &points)) continue;
     SegmentIntegrals s;
     if (derivatives) {
       s.nodes.assign(sf.begin(), sf.end());
@@ -500,12 +530,20 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
       for (Index n : s.nodes) xl.push_back(x[n]);
       bool ok = false;
       area = c = 0;
-      switch (ns + nm) {
-        // The inputs padded to a multiple of 4 (Eigen vectorizes those sizes: 13 % faster on
-        // the tet4 Hertz sphere than 15 for tri3 on tri3).
-        case 6: ok = cell_derivatives<16>(ns, nm, xl, s, area, c); break;
-        case 7: ok = cell_derivatives<20>(ns, nm, xl, s, area, c); break;
-        default: ok = cell_derivatives<24>(ns, nm, xl, s, area, c); break;
+      // The inputs padded to a multiple of 4 (Eigen vectorizes those sizes: 13 % faster on the
+      // tet4 Hertz sphere than 15 for tri3 on tri3).
+      if (hessian) {
+        switch (ns + nm) {
+          case 6: ok = cell_derivatives<HyperDual<16>>(ns, nm, xl, s, area, c); break;
+          case 7: ok = cell_derivatives<HyperDual<20>>(ns, nm, xl, s, area, c); break;
+          default: ok = cell_derivatives<HyperDual<24>>(ns, nm, xl, s, area, c); break;
+        }
+      } else {
+        switch (ns + nm) {
+          case 6: ok = cell_derivatives<Dual<16>>(ns, nm, xl, s, area, c); break;
+          case 7: ok = cell_derivatives<Dual<20>>(ns, nm, xl, s, area, c); break;
+          default: ok = cell_derivatives<Dual<24>>(ns, nm, xl, s, area, c); break;
+        }
       }
       if (!ok) continue;
       std::copy(s.u, s.u + nu, us);
@@ -515,8 +553,26 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
     r.masters.push_back(m);
     cover += c;
     for (int i = 0; i < nu; ++i) u[i] += us[i];
-    for (Index n : mf)
-      if (std::find(r.nodes.begin(), r.nodes.end(), n) == r.nodes.end()) r.nodes.push_back(n);
+    int at[8];
+    for (int k = 0; k < ns + nm; ++k) {
+      const Index n = k < ns ? sf[k] : mf[k - ns];
+      auto it = std::find(r.nodes.begin(), r.nodes.end(), n);
+      at[k] = static_cast<int>(it - r.nodes.begin());
+      if (it == r.nodes.end()) {
+        r.nodes.push_back(n);
+        for (VecX& v : relative) v.conservativeResize(static_cast<Index>(r.nodes.size())), v.tail(1).setZero();
+      }
+    }
+    // Friction's relative positions: per slave facet node k, sum_q N_k(xi_q) w_q (x_s(xi_q) -
+    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N_k w_q (N >= 0 on tri3 and
+    // quad4: no transformed basis needed), as in 2D.
+    for (const CellSample& q : points)
+      for (int k = 0; k < ns; ++k) {
+        const Real wk = q.N[k] * q.w;
+        slip_weight[k] += wk;
+        for (int i = 0; i < ns; ++i) relative[k](at[i]) += wk * q.N[i];
+        for (int l = 0; l < nm; ++l) relative[k](at[ns + l]) -= wk * q.M[l];
+      }
     if (derivatives) cells.push_back(std::move(s));
   }
   // A sliver of cover: the dual basis on it is ill-conditioned (M nearly singular) while its
@@ -531,6 +587,8 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   Real gap[kMaxNs];
   dual_weighted_gaps(ns, u, false, gap);
   r.gap.assign(gap, gap + ns);
+  r.relative = std::move(relative);
+  r.slip_weight = std::move(slip_weight);
   if (derivatives) weighted_gap_derivatives(3, ns, u, false, cells, r);
   return r;
 }
