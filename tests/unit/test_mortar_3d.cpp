@@ -15,39 +15,56 @@ namespace {
 
 // A slave sheet of n x n squares over [-1, 1]^2 at height zs(x, y) (outward normal up, +z),
 // under a master sheet of m x m squares over [lo, hi]^2, rotated by `angle` about z, at height
-// zm(x, y) (outward normal down). Squares are quad4 facets or two tri3 each. Nodes: slave first.
+// zm(x, y) (outward normal down). Facets of `nodes` nodes: quad4, quad8, quad9 (one per square)
+// or tri3, tri6 (two per square); quadratic ones on a grid of half the spacing (a quad8's
+// centre node belongs to no facet). Nodes: slave first.
 struct TwoSheets {
   MasterSurface slave, master;
   std::vector<Vec3> x;
-  TwoSheets(int n, bool slave_tri, int m, bool master_tri, Real lo, Real hi, Real angle, Real (*zs)(Real, Real),
+  TwoSheets(int n, int slave_nodes, int m, int master_nodes, Real lo, Real hi, Real angle, Real (*zs)(Real, Real),
             Real (*zm)(Real, Real)) {
-    auto sheet = [&](MasterSurface& s, int k, bool tri, Real a, Real b, Real rot, Real (*z)(Real, Real), bool up) {
+    auto sheet = [&](MasterSurface& s, int k, int nodes, Real a, Real b, Real rot, Real (*z)(Real, Real), bool up) {
       const Index first = static_cast<Index>(x.size());
-      for (int j = 0; j <= k; ++j)
-        for (int i = 0; i <= k; ++i) {
-          const Real u = a + (b - a) * i / k, v = a + (b - a) * j / k;
+      const int q = nodes <= 4 ? 1 : 2, kq = k * q;  // grid points per square side
+      for (int j = 0; j <= kq; ++j)
+        for (int i = 0; i <= kq; ++i) {
+          const Real u = a + (b - a) * i / kq, v = a + (b - a) * j / kq;
           const Real X = std::cos(rot) * u - std::sin(rot) * v, Y = std::sin(rot) * u + std::cos(rot) * v;
           x.emplace_back(X, Y, z(X, Y));
         }
-      auto id = [&](int i, int j) { return first + j * (k + 1) + i; };
-      auto add = [&](std::vector<Index> f) {
-        if (!up) std::reverse(f.begin(), f.end());
-        s.type.push_back(f.size() == 3 ? ElementType::tri3 : ElementType::quad4);
+      auto id = [&](int i, int j) { return first + j * (kq + 1) + i; };
+      // Corners first, then mid-sides (edge c_i - c_i+1), then the centre; reversed (normal down)
+      // by reversing the corners and their edges.
+      auto add = [&](std::vector<Index> c, std::vector<Index> mid, Index centre) {
+        if (!up) {
+          std::reverse(c.begin() + 1, c.end());
+          std::reverse(mid.begin(), mid.end());
+        }
+        std::vector<Index> f = c;
+        if (nodes > 4) f.insert(f.end(), mid.begin(), mid.end());
+        if (nodes == 9) f.push_back(centre);
+        static const ElementType types[10] = {ElementType::tri3, ElementType::tri3, ElementType::tri3,
+                                              ElementType::tri3, ElementType::quad4, ElementType::tri3,
+                                              ElementType::tri6, ElementType::tri3, ElementType::quad8,
+                                              ElementType::quad9};
+        s.type.push_back(types[nodes]);
         s.facets.push_back(f);
       };
       for (int j = 0; j < k; ++j)
         for (int i = 0; i < k; ++i) {
-          if (tri) {
-            add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+          const int I = q * i, J = q * j, h = q == 2 ? 1 : 0;
+          if (nodes == 3 || nodes == 6) {
+            add({id(I, J), id(I + q, J), id(I + q, J + q)}, {id(I + h, J), id(I + q, J + h), id(I + h, J + h)}, -1);
+            add({id(I, J), id(I + q, J + q), id(I, J + q)}, {id(I + h, J + h), id(I + h, J + q), id(I, J + h)}, -1);
           } else {
-            add({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+            add({id(I, J), id(I + q, J), id(I + q, J + q), id(I, J + q)},
+                {id(I + h, J), id(I + q, J + h), id(I + h, J + q), id(I, J + h)}, id(I + h, J + h));
           }
         }
-      for (int i = 0; i < (k + 1) * (k + 1); ++i) s.nodes.push_back(first + i);
+      for (int i = 0; i < (kq + 1) * (kq + 1); ++i) s.nodes.push_back(first + i);
     };
-    sheet(slave, n, slave_tri, -1, 1, 0, zs, true);
-    sheet(master, m, master_tri, lo, hi, angle, zm, false);
+    sheet(slave, n, slave_nodes, -1, 1, 0, zs, true);
+    sheet(master, m, master_nodes, lo, hi, angle, zm, false);
     for (MasterSurface* s : {&slave, &master}) {
       s->node_facets.assign(x.size(), {});
       for (Index f = 0; f < s->size(); ++f)
@@ -65,7 +82,7 @@ struct TwoSheets {
     std::vector<Index> all(static_cast<size_t>(master.size()));
     for (Index m = 0; m < master.size(); ++m) all[m] = m;
     for (Index e = 0; e < slave.size(); ++e) {
-      const MortarFacetResult r = mortar_element_3d(slave, e, master, all, x, grad != nullptr);
+      const MortarFacetResult r = mortar_element_3d(slave, e, master, all, x, grad != nullptr, hess != nullptr);
       if (!r.overlap) continue;
       if (area) *area += r.segment_length;
       for (size_t k = 0; k < slave.facets[e].size(); ++k) {
@@ -74,6 +91,7 @@ struct TwoSheets {
         if (!grad) continue;
         for (size_t a = 0; a < r.nodes.size(); ++a) {
           (*grad)[j].segment(3 * r.nodes[a], 3) += r.grad[k].segment(3 * a, 3);
+          if (!hess) continue;
           for (size_t b = 0; b < r.nodes.size(); ++b)
             (*hess)[j].block(3 * r.nodes[a], 3 * r.nodes[b], 3, 3) += r.hess[k].block(3 * a, 3 * b, 3, 3);
         }
@@ -90,10 +108,17 @@ Real wavy(Real X, Real Y) { return 0.04 + 0.08 * X - 0.05 * Y + 0.1 * X * Y - 0.
 
 struct Pairing {
   bool slave_tri, master_tri;
+  int master_nodes = 0;  // 0: tri3 or quad4 as master_tri says; 6, 8, 9: tri6, quad8, quad9
+  int slave_nodes() const { return slave_tri ? 3 : 4; }
+  int masters() const { return master_nodes ? master_nodes : (master_tri ? 3 : 4); }
 };
-const Pairing kPairings[] = {{false, false}, {false, true}, {true, false}, {true, true}};
+// Every linear slave on every master facet type.
+const Pairing kPairings[] = {{false, false}, {false, true}, {true, false}, {true, true},
+                             {false, false, 6}, {true, false, 8}, {false, false, 9}, {true, false, 9},
+                             {true, false, 6}, {false, false, 8}};
 std::string pairing_name(const Pairing& p) {
-  return std::string(p.slave_tri ? "tri3" : "quad4") + " on " + (p.master_tri ? "tri3" : "quad4");
+  static const char* names[10] = {"", "", "", "tri3", "quad4", "", "tri6", "", "quad8", "quad9"};
+  return std::string(p.slave_tri ? "tri3" : "quad4") + " on " + names[p.masters()];
 }
 
 }  // namespace
@@ -105,7 +130,7 @@ TEST(Mortar3d, CellsTileTheSlaveAndAUniformGapIsExact) {
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
     const int n = 3;
-    const TwoSheets s(n, p.slave_tri, 4, p.master_tri, -1.6, 1.6, 0.3, flat0, flat_gap);
+    const TwoSheets s(n, p.slave_nodes(), 4, p.masters(), -1.6, 1.6, 0.3, flat0, flat_gap);
     Real area = 0;
     const std::vector<Real> g = s.weighted_gaps(nullptr, nullptr, &area);
     EXPECT_NEAR(area, 4.0, 1e-12) << "the cells tile the slave sheet";
@@ -130,7 +155,7 @@ TEST(Mortar3d, CellsTileTheSlaveAndAUniformGapIsExact) {
 TEST(Mortar3d, WeightedGapsMatchCentralDifferences) {
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
-    TwoSheets s(2, p.slave_tri, 3, p.master_tri, -0.83, 1.4, 0.37, dome, wavy);
+    TwoSheets s(2, p.slave_nodes(), 3, p.masters(), -0.83, 1.4, 0.37, dome, wavy);
     std::vector<VecX> grad;
     std::vector<MatX> hess;
     const std::vector<Real> g = s.weighted_gaps(&grad, &hess);
@@ -164,12 +189,11 @@ TEST(Mortar3d, WeightedGapsMatchCentralDifferences) {
       VecX d(nd);
       for (Index c = 0; c < nd; ++c) d(c) = random();
       const std::vector<Vec3> x0 = s.x;
-      std::vector<VecX> gp, gm;
-      std::vector<MatX> hp, hm;
+      std::vector<VecX> gp, gm;  // gradients only (first-order dual numbers)
       for (Index c = 0; c < nd; ++c) s.x[c / 3](c % 3) = x0[c / 3](c % 3) + step * d(c);
-      s.weighted_gaps(&gp, &hp);
+      s.weighted_gaps(&gp);
       for (Index c = 0; c < nd; ++c) s.x[c / 3](c % 3) = x0[c / 3](c % 3) - step * d(c);
-      s.weighted_gaps(&gm, &hm);
+      s.weighted_gaps(&gm);
       s.x = x0;
       for (size_t j = 0; j < g.size(); ++j)
         err_hess = std::max(err_hess, ((gp[j] - gm[j]) / (2 * step) - hess[j] * d).cwiseAbs().maxCoeff());
@@ -187,7 +211,7 @@ TEST(Mortar3d, LinearGapIsReproducedAtTheNodes) {
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
     auto tilted = [](Real X, Real Y) { return 0.2 + 0.05 * X - 0.03 * Y; };
-    const TwoSheets s(2, p.slave_tri, 5, p.master_tri, -1.7, 1.7, 0.21, flat0, +tilted);
+    const TwoSheets s(2, p.slave_nodes(), 5, p.masters(), -1.7, 1.7, 0.21, flat0, +tilted);
     const std::vector<Real> g = s.weighted_gaps();
     // Weights: the nodal areas of the flat slave sheet (as in the first test).
     std::vector<Real> w(g.size(), 0.0);
@@ -213,7 +237,7 @@ TEST(Mortar3d, SlipCombinationMeasuresTheRelativeMotion) {
   auto gap = [](Real, Real) { return 0.01; };
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
-    const TwoSheets s(3, p.slave_tri, 4, p.master_tri, -1.6, 1.6, 0.3, flat0, +gap);
+    const TwoSheets s(3, p.slave_nodes(), 4, p.masters(), -1.6, 1.6, 0.3, flat0, +gap);
     const Index first_master = static_cast<Index>(s.slave.nodes.size());
     std::vector<Vec3> moved = s.x;
     for (size_t i = first_master; i < moved.size(); ++i) moved[i] += Vec3(0.03, -0.02, 0);
@@ -249,7 +273,7 @@ TEST(Mortar3d, SlipCombinationMeasuresTheRelativeMotion) {
 TEST(Mortar3d, GradientOnlyAgreesWithTheFullDerivatives) {
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
-    const TwoSheets s(2, p.slave_tri, 3, p.master_tri, -0.83, 1.4, 0.37, dome, wavy);
+    const TwoSheets s(2, p.slave_nodes(), 3, p.masters(), -0.83, 1.4, 0.37, dome, wavy);
     std::vector<Index> all(static_cast<size_t>(s.master.size()));
     for (Index m = 0; m < s.master.size(); ++m) all[m] = m;
     int compared = 0;

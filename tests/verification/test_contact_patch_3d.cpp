@@ -175,12 +175,13 @@ INSTANTIATE_TEST_SUITE_P(
 // Segment-based mortar (linear facets): the master facets clipped on each slave facet and the
 // cells integrated exactly, so the non-matching patch is exact as well (issue 14: uniform
 // pressure to 1e-8 relative) with Lagrange multipliers: hex8 or tet4 punches of 3 x 3 x 2 cells
-// on hex8 or tet4 foundations of 4 x 4 x 2, every pairing of tri3 and quad4 facets, and the
-// matching hex8 pair. Penalty and the augmented Lagrangian, reported: as in 2D
+// on hex8 or tet4 foundations of 4 x 4 x 2, every pairing of tri3 and quad4 facets, the
+// matching hex8 pair, and linear punches on quadratic foundations (hex20, tet10, hex27: tri6,
+// quad8, quad9 masters). Penalty and the augmented Lagrangian, reported: as in 2D
 // (ContactPatch.MortarIsExact), the penetration g = -p / eps enters the weighted gaps'
 // variation through the slave's current area, a tangential force of order p g at the punch's
-// edges; measured pressures within 0.3 % (penalty, hex8 on tet4) and 0.5 % (augmented
-// Lagrangian, tet4 on tet4) of p, max |sigma_zz + p| 2.1 % and 2.8 % of p; asserted within 5 %.
+// edges; measured pressures within 0.4 % (penalty, hex8 on tet4) and 0.01 % (augmented
+// Lagrangian, tet4 on tet4) of p, max |sigma_zz + p| 2.1 % and 0.7 % of p; asserted within 5 %.
 class ContactPatch3dMortar : public ::testing::TestWithParam<Patch3dCase> {};
 TEST_P(ContactPatch3dMortar, MortarCarriesTheUniformState) { check_uniform_state(GetParam()); }
 INSTANTIATE_TEST_SUITE_P(
@@ -191,7 +192,10 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::hex8, 2, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::tet4, 3, "penalty", 5e-2, "mortar"},
-                      Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "augmented_lagrangian", 5e-2, "mortar"}),
+                      Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "augmented_lagrangian", 5e-2, "mortar"},
+                      Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex8, ElementType::hex27, 3, "lagrange", 1e-8, "mortar"}),
     case_name);
 
 // The same patch with Coulomb friction (mu = 0.2, segment_to_segment in 3D: the slip of each

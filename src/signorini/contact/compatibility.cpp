@@ -78,15 +78,15 @@ const std::vector<Rule>& rules() {
          return std::string("node_to_node pairs slave nodes with master corner nodes and cannot use the mid-side nodes "
                             "of quadratic facets: use node_to_segment");
        }},
-      {"mortar in 3D on quadratic facets",
+      {"mortar in 3D on quadratic slave facets",
        [](const ContactCombination& c) {
-         return c.discretization == "mortar" && !is_2d(c.dimension) && !(linear(c.slave_facet) && linear(c.master_facet));
+         return c.discretization == "mortar" && !is_2d(c.dimension) && !linear(c.slave_facet);
        },
        "discretization",
        [](const ContactCombination& c) {
-         return "mortar in 3D clips linear facets (tri3, quad4) so far, not " +
-                std::string(element_info(linear(c.slave_facet) ? c.master_facet : c.slave_facet).name) +
-                ": use segment_to_segment on quadratic surfaces (tet10, hex20, hex27)";
+         return "mortar in 3D takes linear slave facets (tri3, quad4) so far, not " +
+                std::string(element_info(c.slave_facet).name) +
+                ": make the quadratic surface (tet10, hex20, hex27) the master, or use segment_to_segment";
        }},
       {"self-contact with mortar in 3D",
        [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && !is_2d(c.dimension); },

@@ -526,7 +526,7 @@ class NodeToNode final : public DeformableMaster {
 };
 
 
-// Dual mortar (2D; 3D on tri3 and quad4 facets: mortar.hpp): one weighted gap per
+// Dual mortar (2D; 3D with tri3 and quad4 slave facets: mortar.hpp): one weighted gap per
 // slave node, integrated over the segments
 // of its slave facets against the master facets they overlap. The constraint's gap is
 // g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that

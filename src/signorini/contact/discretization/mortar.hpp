@@ -62,7 +62,7 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x,
                                     const MortarMeasure& measure, bool derivatives, bool positive_basis = false);
 
-// Slave facet e (tri3 or quad4) against the facets `masters` (tri3 or quad4) in 3D
+// Slave facet e (tri3 or quad4) against the facets `masters` (tri3, tri6, quad4, quad8, quad9) in 3D
 // (mortar_3d.cpp): the master facets' corners projected along the slave facet's centre normal
 // onto its parameter plane, clipped against its reference element, the clipped polygon
 // integrated in triangles from its centroid; the dual basis on the covered part as in 2D.

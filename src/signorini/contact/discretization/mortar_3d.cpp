@@ -1,4 +1,5 @@
-// Segment-based dual mortar in 3D on linear facets (tri3, quad4), mortar.hpp.
+// Segment-based dual mortar in 3D: linear slave facets (tri3, quad4) on linear or quadratic
+// master facets (tri3, tri6, quad4, quad8, quad9), mortar.hpp.
 //
 // Per slave facet e and master facet m (Puso and Laursen 2004, "A mortar segment-to-segment
 // contact method for large deformation solid mechanics", CMAME 193; Popp, Gee and Wall 2009,
@@ -97,8 +98,11 @@ T cross2(const V2<T>& p, const V2<T>& q) {
   return p.a * q.b - p.b * q.a;
 }
 
-// Tri3 (nodes at (0,0), (1,0), (0,1)) or quad4 (nodes at (-1,-1), (1,-1), (1,1), (-1,1)) shape
-// functions and their derivatives, the element library's node order.
+// The shape functions of a facet with nn nodes and their derivatives, the element library's
+// node order: tri3 (nodes at (0,0), (1,0), (0,1)), tri6 (then the mid-sides of 0-1, 1-2, 2-0),
+// quad4 (nodes at (-1,-1), (1,-1), (1,1), (-1,1)), quad8 (then the mid-sides of 0-1, 1-2, 2-3,
+// 3-0), quad9 (then the centre).
+constexpr int kMaxFacetNodes = 9;
 template <class T>
 void shape(int nn, const T& a, const T& b, T* N, T* Na, T* Nb) {
   if (nn == 3) {
@@ -107,12 +111,48 @@ void shape(int nn, const T& a, const T& b, T* N, T* Na, T* Nb) {
     Nb[0] = T(-1), Nb[1] = T(0), Nb[2] = T(1);
     return;
   }
+  if (nn == 6) {
+    const T l0 = 1 - a - b;
+    N[0] = l0 * (2 * l0 - 1), N[1] = a * (2 * a - 1), N[2] = b * (2 * b - 1);
+    N[3] = 4 * l0 * a, N[4] = 4 * a * b, N[5] = 4 * b * l0;
+    Na[0] = 1 - 4 * l0, Na[1] = 4 * a - 1, Na[2] = T(0), Na[3] = 4 * (l0 - a), Na[4] = 4 * b, Na[5] = -4 * b;
+    Nb[0] = 1 - 4 * l0, Nb[1] = T(0), Nb[2] = 4 * b - 1, Nb[3] = -4 * a, Nb[4] = 4 * a, Nb[5] = 4 * (l0 - b);
+    return;
+  }
   static constexpr Real c[4] = {-1, 1, 1, -1}, d[4] = {-1, -1, 1, 1};
-  for (int i = 0; i < 4; ++i) {
-    const T fa = 1 + c[i] * a, fb = 1 + d[i] * b;
-    N[i] = 0.25 * fa * fb;
-    Na[i] = (0.25 * c[i]) * fb;
-    Nb[i] = (0.25 * d[i]) * fa;
+  if (nn == 4) {
+    for (int i = 0; i < 4; ++i) {
+      const T fa = 1 + c[i] * a, fb = 1 + d[i] * b;
+      N[i] = 0.25 * fa * fb;
+      Na[i] = (0.25 * c[i]) * fb;
+      Nb[i] = (0.25 * d[i]) * fa;
+    }
+    return;
+  }
+  if (nn == 8) {
+    // Serendipity: corners (1 + c a)(1 + d b)(c a + d b - 1) / 4; mid-sides of the edges
+    // b = -1, 1 (a = 0 there): (1 - a^2)(1 + d b) / 2; of a = 1, -1: (1 + c a)(1 - b^2) / 2.
+    for (int i = 0; i < 4; ++i) {
+      const T fa = 1 + c[i] * a, fb = 1 + d[i] * b, s = c[i] * a + d[i] * b - 1;
+      N[i] = 0.25 * fa * fb * s;
+      Na[i] = (0.25 * c[i]) * fb * (s + fa);
+      Nb[i] = (0.25 * d[i]) * fa * (s + fb);
+    }
+    const T qa = 1 - a * a, qb = 1 - b * b;
+    N[4] = 0.5 * qa * (1 - b), Na[4] = -(a * (1 - b)), Nb[4] = -0.5 * qa;
+    N[5] = 0.5 * (1 + a) * qb, Na[5] = 0.5 * qb, Nb[5] = -((1 + a) * b);
+    N[6] = 0.5 * qa * (1 + b), Na[6] = -(a * (1 + b)), Nb[6] = 0.5 * qa;
+    N[7] = 0.5 * (1 - a) * qb, Na[7] = -0.5 * qb, Nb[7] = -((1 - a) * b);
+    return;
+  }
+  // Quad9: products of the line3 functions L_-1 = s (s - 1) / 2, L_0 = 1 - s^2, L_1 = s (s + 1) / 2.
+  const T La[3] = {0.5 * a * (a - 1), 1 - a * a, 0.5 * a * (a + 1)}, Lb[3] = {0.5 * b * (b - 1), 1 - b * b, 0.5 * b * (b + 1)};
+  const T dLa[3] = {a - 0.5, -2 * a, a + 0.5}, dLb[3] = {b - 0.5, -2 * b, b + 0.5};
+  static constexpr int ia[9] = {0, 2, 2, 0, 1, 2, 1, 0, 1}, ib[9] = {0, 0, 2, 2, 0, 1, 2, 1, 1};
+  for (int i = 0; i < 9; ++i) {
+    N[i] = La[ia[i]] * Lb[ib[i]];
+    Na[i] = dLa[ia[i]] * Lb[ib[i]];
+    Nb[i] = La[ia[i]] * dLb[ib[i]];
   }
 }
 template <class T>
@@ -165,8 +205,11 @@ struct Reference {
 const Reference& reference(int nn) {
   static const Reference tri{3, {{0, 0}, {1, 0}, {0, 1}, {0, 0}}, 0.5, {1.0 / 3, 1.0 / 3}};
   static const Reference quad{4, {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}, 4.0, {0, 0}};
-  return nn == 3 ? tri : quad;
+  return nn == 3 || nn == 6 ? tri : quad;
 }
+// Whether the facet's map is affine (tri3) and its corner count.
+inline bool affine_facet(int nn) { return nn == 3; }
+inline int corners(int nn) { return nn == 3 || nn == 6 ? 3 : 4; }
 
 // The parameters of facet xf (nn nodes) at which x(xi) - p is normal to t1 and t2 (parallel to
 // n0 = t1 x t2): Newton in plain numbers from the centre, then two Newton steps on T from the
@@ -178,7 +221,7 @@ const Reference& reference(int nn) {
 template <class T>
 V2<T> projection_step(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, const V2<T>& xi,
                       T& det) {
-  T N[4], Na[4], Nb[4];
+  T N[kMaxFacetNodes], Na[kMaxFacetNodes], Nb[kMaxFacetNodes];
   shape(nn, xi.a, xi.b, N, Na, Nb);
   const V3<T> r = interpolate(nn, N, xf) - p, a1 = interpolate(nn, Na, xf), a2 = interpolate(nn, Nb, xf);
   const T F1 = dot(r, t1), F2 = dot(r, t2);
@@ -188,7 +231,7 @@ V2<T> projection_step(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, 
 }
 template <class T>
 bool project_along(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, V2<T>& out) {
-  V3<Real> xv[4];
+  V3<Real> xv[kMaxFacetNodes];
   for (int i = 0; i < nn; ++i) xv[i] = val(xf[i]);
   const V3<Real> pv = val(p), t1v = val(t1), t2v = val(t2);
   V2<Real> xi = reference(nn).centre;
@@ -208,7 +251,7 @@ bool project_along(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, con
   if (!ok) return false;
   V2<T> t{T(xi.a), T(xi.b)};
   // On a tri3 facet the equations are linear: one step is exact, derivatives included.
-  for (int step = 0; step < (nn == 3 ? 1 : 2); ++step) {
+  for (int step = 0; step < (affine_facet(nn) ? 1 : 2); ++step) {
     T det;
     t = t - projection_step(nn, xf, p, t1, t2, t, det);
   }
@@ -297,7 +340,7 @@ const std::vector<CellPoint>& cell_rule() {
 // One integration point of the cells, for friction's slip (plain numbers): the slave and master
 // shape functions there and the point's weight (rule weight times current dA).
 struct CellSample {
-  Real N[4], M[4], w;
+  Real N[4], M[kMaxFacetNodes], w;
 };
 
 // The integrals u (mortar_dual.hpp) of slave facet xs (ns nodes) against master facet xm (nm
@@ -317,28 +360,31 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
   const V3<T> n0 = (1 / m0_length) * m0;
   {  // facing: the master's normal at its centre points against n0
     const Reference& mr = reference(nm);
-    Real M[4], Ma[4], Mb[4];
+    Real M[kMaxFacetNodes], Ma[kMaxFacetNodes], Mb[kMaxFacetNodes];
     shape(nm, mr.centre.a, mr.centre.b, M, Ma, Mb);
-    V3<Real> xmv[4];
+    V3<Real> xmv[kMaxFacetNodes];
     for (int i = 0; i < nm; ++i) xmv[i] = val(xm[i]);
     if (dot(cross(interpolate(nm, Ma, xmv), interpolate(nm, Mb, xmv)), val(n0)) >= 0) return false;
   }
-  // The master's corners in the slave's parameter plane, counter-clockwise.
-  std::vector<V2<T>> poly(nm);
-  const bool flat = ns == 3, affine = ns == 3 && nm == 3;
+  // The master's corners in the slave's parameter plane, counter-clockwise (a quadratic
+  // master's edges are taken as their chords there, on both sides of an edge alike, so that
+  // neighbouring master facets still tile the plane).
+  const int nmc = corners(nm);
+  std::vector<V2<T>> poly(nmc);
+  const bool flat = ns == 3, affine = ns == 3 && affine_facet(nm);
   if (flat) {
     // A tri3 slave is its own auxiliary plane: the projection along n0 is the orthogonal one,
     // xi = G^-1 [t_1 . (y - x_0), t_2 . (y - x_0)] with the metric G_ab = t_a . t_b.
     const T g11 = dot(t1, t1), g12 = dot(t1, t2), g22 = dot(t2, t2);
     const T inv = 1 / (g11 * g22 - g12 * g12);
     const T i11 = g22 * inv, i12 = -(g12 * inv), i22 = g11 * inv;
-    for (int l = 0; l < nm; ++l) {
+    for (int l = 0; l < nmc; ++l) {
       const V3<T> d = xm[l] - xs[0];
       const T r1 = dot(t1, d), r2 = dot(t2, d);
       poly[l] = {i11 * r1 + i12 * r2, i12 * r1 + i22 * r2};
     }
   } else {
-    for (int l = 0; l < nm; ++l)
+    for (int l = 0; l < nmc; ++l)
       if (!project_along(ns, xs, xm[l], t1, t2, poly[l])) return false;
   }
   // A tri3 slave is flat, its Jacobian |a_1 x a_2| = |m0| constant; on a tri3 master as well,
@@ -421,7 +467,7 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
           if (affine) continue;  // only the slip's points (the integrals came from the moments)
           return false;
         }
-        T M[4], Ma[4], Mb[4];
+        T M[kMaxFacetNodes], Ma[kMaxFacetNodes], Mb[kMaxFacetNodes];
         shape(nm, eta.a, eta.b, M, Ma, Mb);
         T jac;
         if (flat) {
@@ -463,7 +509,7 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
 // HD = HyperDual<NV> (gradients and Hessians) or Dual<NV> (gradients only: s.hess stays empty).
 template <class HD>
 bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegrals& s, Real& area, Real& cover) {
-  V3<HD> xs[4], xm[4];
+  V3<HD> xs[4], xm[kMaxFacetNodes];
   auto input = [&](int i) {
     if (i == 0) return V3<HD>{HD(xl[0](0)), HD(xl[0](1)), HD(xl[0](2))};
     const int k = 3 * (i - 1);
@@ -489,6 +535,21 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
   return true;
 }
 
+// cell_derivatives on AD<NV>, NV the 3 (ns + nm - 1) inputs padded to a multiple of 4 (Eigen
+// vectorizes those sizes: 13 % faster on the tet4 Hertz sphere than 15 for tri3 on tri3).
+template <template <int> class AD>
+bool derivatives_for(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegrals& s, Real& area, Real& cover) {
+  switch ((3 * (ns + nm - 1) + 3) / 4) {
+    case 4: return cell_derivatives<AD<16>>(ns, nm, xl, s, area, cover);  // tri3 on tri3
+    case 5: return cell_derivatives<AD<20>>(ns, nm, xl, s, area, cover);
+    case 6: return cell_derivatives<AD<24>>(ns, nm, xl, s, area, cover);
+    case 7: return cell_derivatives<AD<28>>(ns, nm, xl, s, area, cover);
+    case 8: return cell_derivatives<AD<32>>(ns, nm, xl, s, area, cover);
+    case 9: return cell_derivatives<AD<36>>(ns, nm, xl, s, area, cover);  // quad4 on quad9
+    default: throw Error("mortar (3D): a facet pair has more nodes than expected (" + std::to_string(ns + nm) + ")");
+  }
+}
+
 }  // namespace
 
 MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
@@ -503,7 +564,7 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   Real u[kMaxU] = {};
   Real cover = 0, best = 0;
   std::vector<SegmentIntegrals> cells;
-  V3<Real> xs[4], xm[4];
+  V3<Real> xs[4], xm[kMaxFacetNodes];
   for (int k = 0; k < ns; ++k) xs[k] = {x[sf[k]](0), x[sf[k]](1), x[sf[k]](2)};
   r.nodes.assign(sf.begin(), sf.end());
   std::vector<CellSample> points;
@@ -512,8 +573,9 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   for (Index m : masters) {
     const std::vector<Index>& mf = master.facets[m];
     const int nm = static_cast<int>(mf.size());
-    if (nm != 3 && nm != 4)
-      throw Error("mortar (3D): master facets must be tri3 or quad4 (a facet has " + std::to_string(nm) + " nodes)");
+    if (nm != 3 && nm != 4 && nm != 6 && nm != 8 && nm != 9)
+      throw Error("mortar (3D): master facets must be tri3, tri6, quad4, quad8 or quad9 (a facet has " +
+                  std::to_string(nm) + " nodes)");
     for (int k = 0; k < nm; ++k) xm[k] = {x[mf[k]](0), x[mf[k]](1), x[mf[k]](2)};
     // Plain numbers first: most candidates do not overlap (88 candidates per slave facet, 5 of
     // them overlapping, on the tet4 Hertz sphere). With derivatives the integrals are then those
@@ -530,21 +592,7 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
       for (Index n : s.nodes) xl.push_back(x[n]);
       bool ok = false;
       area = c = 0;
-      // The inputs padded to a multiple of 4 (Eigen vectorizes those sizes: 13 % faster on the
-      // tet4 Hertz sphere than 15 for tri3 on tri3).
-      if (hessian) {
-        switch (ns + nm) {
-          case 6: ok = cell_derivatives<HyperDual<16>>(ns, nm, xl, s, area, c); break;
-          case 7: ok = cell_derivatives<HyperDual<20>>(ns, nm, xl, s, area, c); break;
-          default: ok = cell_derivatives<HyperDual<24>>(ns, nm, xl, s, area, c); break;
-        }
-      } else {
-        switch (ns + nm) {
-          case 6: ok = cell_derivatives<Dual<16>>(ns, nm, xl, s, area, c); break;
-          case 7: ok = cell_derivatives<Dual<20>>(ns, nm, xl, s, area, c); break;
-          default: ok = cell_derivatives<Dual<24>>(ns, nm, xl, s, area, c); break;
-        }
-      }
+      ok = hessian ? derivatives_for<HyperDual>(ns, nm, xl, s, area, c) : derivatives_for<Dual>(ns, nm, xl, s, area, c);
       if (!ok) continue;
       std::copy(s.u, s.u + nu, us);
     }
@@ -553,7 +601,7 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
     r.masters.push_back(m);
     cover += c;
     for (int i = 0; i < nu; ++i) u[i] += us[i];
-    int at[8];
+    int at[4 + kMaxFacetNodes];
     for (int k = 0; k < ns + nm; ++k) {
       const Index n = k < ns ? sf[k] : mf[k - ns];
       auto it = std::find(r.nodes.begin(), r.nodes.end(), n);
