@@ -135,13 +135,14 @@ inline void compare_tube_slice_with_plane_strain(const std::string& parameters, 
 // `csv`: a file name in build/curves/ for both runs' bar force against closure
 // (examples/tube_crush/plot.py).
 // `friction`: a friction entry for both folds (e.g. "friction: {law: coulomb, mu: 0.3}").
+// `example`: tube_crush (plane strain) or tube_crush_3d (the slice).
 inline void compare_mortar_fold(const std::string& parameters, const std::string& method, Real force_tolerance,
                                 Real max_penetration, Real pressure_tolerance, const std::string& csv = "",
-                                const std::string& friction = "") {
+                                const std::string& friction = "", const std::string& example = "tube_crush") {
   const std::string extra = friction.empty() ? "" : ", " + friction;
-  const std::vector<TubeSample> nts = crush_tube("tube_crush", parameters,
+  const std::vector<TubeSample> nts = crush_tube(example, parameters,
                                                  friction.empty() ? "" : "{name: fold, surface: Inner, self: true" + extra + "}"),
-                                mortar = crush_tube("tube_crush", parameters,
+                                mortar = crush_tube(example, parameters,
                                                     "{name: fold, surface: Inner, self: true, discretization: mortar, "
                                                     "enforcement: {method: " + method + "}" + extra + "}");
   ASSERT_FALSE(nts.empty());
@@ -161,10 +162,11 @@ inline void compare_mortar_fold(const std::string& parameters, const std::string
     fold_closed = std::max(fold_closed, t.fold_closed);
   }
   const Real force = std::abs(mortar.back().force), reference = std::abs(nts.back().force);
-  std::printf("fold as mortar (%s, %s%s) against node_to_segment: %zu and %zu increments; final bar force %.6g against "
+  std::printf("%s: fold as mortar (%s, %s%s) against node_to_segment: %zu and %zu increments; final bar force %.6g against "
               "%.6g N/mm (%+.3f %%); fold closed at a closure of %.4g against %.4g mm, up to %lld closed nodes; final "
               "peak pressure %.4g against %.4g MPa; deepest weighted gap %.2e mm; balance %.1e, fold's net force %.1e\n",
-              parameters.empty() ? "the example's mesh" : parameters.c_str(), method.c_str(), extra.c_str(), mortar.size(),
+              example.c_str(), parameters.empty() ? "the example's mesh" : parameters.c_str(), method.c_str(), extra.c_str(),
+              mortar.size(),
               nts.size(),
               force, reference, 100 * (force / reference - 1), touch(mortar), touch(nts), (long long)fold_closed,
               mortar.back().peak_pressure, nts.back().peak_pressure, worst_gap, worst_balance, worst_internal);

@@ -127,6 +127,14 @@ TEST(SelfContact, TubeSliceIn3DFoldsAsThePlaneStrainTube) {
   test::compare_tube_slice_with_plane_strain("order: 1, nu: 24, nl: 20", 2);
 }
 
+// 3D self-contact with mortar: the tube slice's fold (quad4 facets of the linear hexahedra, 24
+// and 20 along the wall) as dual mortar with Lagrange multipliers, against the slice's
+// node-to-segment fold (tests/tube_slice.hpp; the partner graph and two-colouring of the 2D
+// mortar fold, on the 3D facets' boxes).
+TEST(SelfContact, TubeSliceFoldAsMortarGivesTheNodeToSegmentForce) {
+  test::compare_mortar_fold("order: 1, nu: 24, nl: 20", "lagrange", 5e-3, 1e-8, 0.05, "", "", "tube_crush_3d");
+}
+
 // Self-contact with mortar (issue 16): the tube's fold as dual mortar with the default
 // enforcement (Lagrange multipliers; one pass, slave and master facets assigned at detection)
 // gives node-to-segment's bar force (tests/tube_slice.hpp), on linear cells (24 and 20 along

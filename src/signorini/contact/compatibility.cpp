@@ -88,12 +88,6 @@ const std::vector<Rule>& rules() {
                 std::string(element_info(c.slave_facet).name) +
                 ": make the quadratic surface (tet10, hex20, hex27) the master, or use segment_to_segment";
        }},
-      {"self-contact with mortar in 3D",
-       [](const ContactCombination& c) { return c.self && c.discretization == "mortar" && !is_2d(c.dimension); },
-       "self",
-       [](const ContactCombination&) {
-         return std::string("self-contact with mortar is 2D so far: use node_to_segment in 3D");
-       }},
       {"segment_to_segment with friction on quadratic master facets in 3D",
        [](const ContactCombination& c) {
          return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension) &&
@@ -123,7 +117,7 @@ const std::vector<Rule>& rules() {
        "self",
        [](const ContactCombination& c) {
          if (c.discretization != "node_to_segment" && c.discretization != "mortar")
-           return std::string("self-contact is node_to_segment or mortar (2D) so far (segment_to_segment: not yet)");
+           return std::string("self-contact is node_to_segment or mortar so far (segment_to_segment: not yet)");
          if (c.passes != 1)
            return std::string("self-contact has one pass: every node of the surface is slave already");
          return std::string("self-contact has no smoothing so far (the surface stays faceted)");

@@ -309,7 +309,8 @@ void register_deck_sections(Registry& r) {
           opt(text("slave", "slave facet set", std::nullopt)),
           opt(text("surface", "with self: true, the facet set in contact with itself", std::nullopt)),
           text("self", "self-contact of 'surface' (node_to_segment, one pass: every node is slave of the facets "
-                       "that face it, its own and their neighbours excluded)", "false", ParamKind::boolean),
+                       "that face it, its own and their neighbours excluded; mortar: the facets that face each other "
+                       "coloured slave and master at each detection)", "false", ParamKind::boolean),
           opt(text("surfaces", "[A, B] with master: auto: the finer surface becomes slave; [A, B, C, ...]: a pair for every "
                                "two surfaces of different bodies within reach of each other (multi-body contact)",
                    std::nullopt, ParamKind::vector)),

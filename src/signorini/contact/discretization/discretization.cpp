@@ -558,10 +558,16 @@ class Mortar final : public DeformableMaster {
     for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
     candidates_.assign(slave_facets_.size(), {});
     if (self_) {
-      std::vector<Real> w;
-      mortar_slave_weights(slave_facets_, mesh.nodes, measure_, true, w);
-      gap_scale_.resize(slave_.nodes.size());
-      for (size_t j = 0; j < slave_.nodes.size(); ++j) gap_scale_[j] = w[slave_.nodes[j]];
+      // 2D: the weights of line3's transformed basis; 3D (tri3, quad4 facets, non-negative
+      // functions): the slave's own weights int N_j dA0.
+      if (dim_ == 2) {
+        std::vector<Real> w;
+        mortar_slave_weights(slave_facets_, mesh.nodes, measure_, true, w);
+        gap_scale_.resize(slave_.nodes.size());
+        for (size_t j = 0; j < slave_.nodes.size(); ++j) gap_scale_[j] = w[slave_.nodes[j]];
+      } else {
+        gap_scale_ = slave_.weights;
+      }
       excluded_.resize(slave_facets_.size());
       for (Index e = 0; e < slave_facets_.size(); ++e) {
         std::set<Index> ex;
@@ -665,14 +671,15 @@ class Mortar final : public DeformableMaster {
     const Vec3 grow = Vec3::Constant(dmax);
     std::vector<Vec3> glo(nf), ghi(nf);
     for (Index f = 0; f < nf; ++f) glo[f] = lo[f] - grow, ghi[f] = hi[f] + grow;
-    const BoxGrid grid(glo, ghi, 2);  // the facets' boxes grown by d_max
+    const BoxGrid grid(glo, ghi, dim_);  // the facets' boxes grown by d_max
     // The facets near each other (either's box within the other's grown box), facing, outside
     // the two-rings: an undirected graph.
     std::vector<std::vector<Index>> near(nf);
     for (Index e = 0; e < nf; ++e)
       grid.visit(lo[e], hi[e], [&](Index f) {
         if (normal[f].dot(normal[e]) >= 0 || std::binary_search(excluded_[e].begin(), excluded_[e].end(), f)) return;
-        if ((glo[f].head(2).array() > hi[e].head(2).array()).any() || (ghi[f].head(2).array() < lo[e].head(2).array()).any())
+        if ((glo[f].head(dim_).array() > hi[e].head(dim_).array()).any() ||
+            (ghi[f].head(dim_).array() < lo[e].head(dim_).array()).any())
           return;
         near[e].push_back(f);
         near[f].push_back(e);
