@@ -64,10 +64,12 @@ namespace {
 
 // The patch test's model: the two blocks, the pair (`discretization`, `method`), the pressure
 // p on the punch top and on the uncovered foundation top, the rigid motions held where the exact
-// state puts them (u_x = exx x, u_y = exx y).
-Model patch_model(const Patch3dCase& c, Real E, Real nu, Real p) {
-  const Real exx = nu * p / E;
-  Mesh m = test::two_blocks(c.foundation, 4, c.punch_cells, 4, 2, Vec3(1, 1, 2), true, c.punch, 2, 2);
+// state puts them (u_x = exx x, u_y = exx y). `slide`: the punch starts that far in -x and is
+// moved there while the load comes on (the master then the whole foundation top). `stretch`:
+// the exact lateral stretch at finite strain (0: small strain, exx = nu p / E).
+Model patch_model(const Patch3dCase& c, Real E, Real nu, Real p, Real slide = 0, Real stretch = 0) {
+  const Real exx = stretch > 0 ? stretch - 1 : nu * p / E;
+  Mesh m = test::two_blocks(c.foundation, 4, c.punch_cells, 4, 2, Vec3(1 - slide, 1, 2), true, c.punch, 2, 2);
   auto node_at = [&](const Vec3& x) {
     for (Index i = 0; i < m.num_nodes(); ++i)
       if ((m.nodes[i] - x).norm() < 1e-9) return i;
@@ -78,30 +80,34 @@ Model patch_model(const Patch3dCase& c, Real E, Real nu, Real p) {
   m.facet_sets["foundation_free"] = facets_in_footprint(m, "lower_zmax", false);
   m.node_sets["origin"] = {node_at(Vec3(0, 0, 0))};
   m.node_sets["x_axis"] = {node_at(Vec3(4, 0, 0))};
-  m.node_sets["punch_a"] = {node_at(Vec3(1, 1, 4))};
-  m.node_sets["punch_b"] = {node_at(Vec3(3, 1, 4))};
+  m.node_sets["punch_a"] = {node_at(Vec3(1 - slide, 1, 4))};
+  m.node_sets["punch_b"] = {node_at(Vec3(3 - slide, 1, 4))};
   m.complete_node_sets();
   AnalysisSettings s;
   s.dimension = Dimension::three_d;
+  s.finite_strain = stretch > 0;
   Model model;
   model.settings = s;
   model.mesh = std::move(m);
   EXPECT_EQ(model.mesh.facet_sets["foundation_free"].empty(), false);
   orient_facets(model.mesh);
-  auto mat = std::make_shared<LinearElastic>(E, nu);
+  std::shared_ptr<Material> mat;
+  if (stretch > 0) mat = std::make_shared<NeoHookean>(E, nu);
+  else mat = std::make_shared<LinearElastic>(E, nu);
   model.bodies.push_back(std::make_unique<Body>("foundation", model.mesh.regions["lower_domain"], mat, s));
   model.bodies.push_back(std::make_unique<Body>("punch", model.mesh.regions["upper_domain"], mat, s));
   ContactPairSettings cs;
   cs.name = "patch";
-  cs.master = "foundation_top";
+  cs.master = slide > 0 ? "lower_zmax" : "foundation_top";
   cs.slave = "upper_zmin";
   cs.discretization = c.discretization;
   cs.method = c.method;
   model.contacts = {cs};
   Step st;
   st.dirichlet = {test::fix("lower_zmin", 2), test::fix("origin", 0), test::fix("origin", 1),
-                  test::fix("x_axis", 1), test::fix("punch_a", 0, exx * 1), test::fix("punch_a", 1, exx * 1),
+                  test::fix("x_axis", 1), test::fix("punch_a", 0, exx * 1 + slide), test::fix("punch_a", 1, exx * 1),
                   test::fix("punch_b", 1, exx * 1)};
+  if (slide > 0) st.initial_increment = st.max_increment = 0.1;  // a tenth of a foundation cell per increment
   for (const char* set : {"upper_zmax", "foundation_free"}) {
     Load l;
     l.kind = LoadKind::pressure;
@@ -197,6 +203,77 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::hex8, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::hex27, 3, "lagrange", 1e-8, "mortar"}),
     case_name);
+
+// The 3D mortar patch after sliding (issue 14: the patch "before and after the upper block
+// slides by several element lengths at finite strain"): the punch starts one foundation cell
+// (1.5 of its own cells) in -x, on the whole foundation top as master, and is moved into place
+// while the load comes on, a tenth of a cell per increment, so that every cell of the interface
+// changes. The final state of a frictionless hyperelastic problem does not depend on the path,
+// so it is the uniform one. Small strain: as above. Finite strain (Neo-Hookean, the pressures
+// following the surfaces): F = diag(l, l, lz), Cauchy sigma_xx = sigma_yy = 0 and sigma_zz = -p
+// in both blocks, mu (l^2 - 1) + Lambda ln J = 0 and mu (lz^2 - 1) + Lambda ln J = -p J,
+// J = l^2 lz (material.cpp's Neo-Hookean), solved by Newton here (l = 1.0040217); the punch held at
+// the foundation's homogeneous x = l, y = l (plus the slide), the reported pressure the contact
+// force per reference area, p l^2. Lagrange multipliers, hex8 and tet4 punches (3 x 3 cells) on
+// hex8 and tet4 foundations (4 x 4); Newton to 1e-11. Measured: pressures equal to the exact
+// value to 10 digits, |sigma_zz + p| and |sigma_xx| below 1.2e-11, the stretch to 10 digits,
+// 21-25 Newton iterations in 10 increments. The slide is one foundation cell (the 4 x 4
+// foundation leaves no room for more without the punch overhanging its edge at the start).
+TEST(ContactPatch3dMortarSliding, SlidPunchCarriesTheUniformState) {
+  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
+  const Real E = 1000, nu = 0.4, p = 10, mu = E / (2 * (1 + nu)), lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+  Real l = 1, lz = 1;
+  for (int it = 0; it < 50; ++it) {
+    const Real J = l * l * lz, f1 = mu * (l * l - 1) + lam * std::log(J),
+               f2 = mu * (lz * lz - 1) + lam * std::log(J) + p * J;
+    const Real a11 = 2 * mu * l + 2 * lam / l, a12 = lam / lz;
+    const Real a21 = 2 * lam / l + 2 * p * l * lz, a22 = 2 * mu * lz + lam / lz + p * l * l;
+    const Real det = a11 * a22 - a12 * a21;
+    l -= (a22 * f1 - a12 * f2) / det;
+    lz -= (a11 * f2 - a21 * f1) / det;
+  }
+  for (const Patch3dCase& c : {Patch3dCase{ElementType::hex8, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"},
+                               Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"}})
+    for (bool finite : {false, true}) {
+      const std::string what = element_info(c.punch).name + " on " + element_info(c.foundation).name +
+                               (finite ? ", finite strain" : ", small strain");
+      Model model = patch_model(c, E, nu, p, 1.0, finite ? l : 0);
+      model.newton.residual_tolerance = 1e-11;
+      Analysis a(model);
+      const AnalysisSummary sum = a.run();
+      ASSERT_TRUE(sum.completed) << what << ": " << sum.failure;
+      const Real expected = finite ? p * l * l : p;
+      Real pmin = 1e300, pmax = -1e300;
+      int closed = 0;
+      for (const auto& ct : a.contacts())
+        for (const auto& ns : ct->slave_states()) {
+          if (ns.status != 2) continue;
+          pmin = std::min(pmin, ns.pressure);
+          pmax = std::max(pmax, ns.pressure);
+          ++closed;
+        }
+      Real szz = 0, sxx = 0;
+      for (auto& b : model.bodies) {
+        CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
+        for (auto& sg : cr.stress) szz = std::max(szz, std::abs(sg(2) + p)), sxx = std::max(sxx, std::abs(sg(0)));
+      }
+      // The lateral stretch: the foundation's node at (4, 0, 0) moves by 4 (l - 1) along x.
+      const Index corner = model.mesh.node_sets.at("x_axis").front();
+      const Real stretch = 1 + a.displacement()(a.dofs().dof(corner, 0)) / 4;
+      int iterations = 0;
+      for (const auto& inc : sum.increments) iterations += inc.iterations;
+      std::printf("3D mortar patch after sliding, %s: %d closed, pressure %.10g .. %.10g (exact %.10g), max |sigma_zz "
+                  "+ p| %.1e, max |sigma_xx| %.1e, stretch %.10f (exact %.10f); %zu increments, %d iterations\n",
+                  what.c_str(), closed, pmin, pmax, expected, szz, sxx, stretch, finite ? l : 1 + nu * p / E,
+                  sum.increments.size(), iterations);
+      EXPECT_EQ(closed, 16) << what;
+      EXPECT_NEAR(pmin, expected, 1e-8 * p) << what;
+      EXPECT_NEAR(pmax, expected, 1e-8 * p) << what;
+      EXPECT_LT(szz, 1e-8 * p) << what;
+      EXPECT_LT(sxx, 1e-8 * p) << what;
+      EXPECT_NEAR(stretch, finite ? l : 1 + nu * p / E, 1e-9) << what;
+    }
+}
 
 // The same patch with Coulomb friction (mu = 0.2, segment_to_segment in 3D: the slip of each
 // slave node averaged over its facets' integration points, against the slave's averaged normal
