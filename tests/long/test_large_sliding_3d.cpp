@@ -6,7 +6,8 @@
 // force |F_x| below 1 % of the normal force F_z (the bound); mortar's normal force
 // oscillation (max - min over the mean) below 1 % (the bound for mortar); node-to-segment's
 // measured and printed. Both runs' forces go to build/curves/sphere_drag_3d.csv (discretization,
-// drag, F_x, F_z). Measured (6 min for both, with another job on the second core): mortar 21
+// drag, F_x, F_z). Measured (77 s and 16 s alone; 6 min for both with another job on the
+// machine): mortar 21
 // increments in all, 87 Newton iterations (4 per drag increment), |F_x| / F_z <= 0.038 %, F_z
 // oscillation 0.48 %; node_to_segment 22 increments (one cut back, one stagnation at |R|/F
 // 7e-5 accepted), 115 iterations, 0.13 %, 0.52 %. Friction (the mu 0.3 case): not yet.
