@@ -46,4 +46,17 @@ inline ExampleDeck example_deck_with(const std::string& example, const std::stri
   return out;
 }
 
+// Replaces the first `from` in the example deck's text by `to` (a pair's entry, a line); false,
+// and the deck unchanged, when `from` is not in it.
+inline bool replace_in_deck(const ExampleDeck& ex, const std::string& from, const std::string& to) {
+  std::ifstream in(ex.deck);
+  std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const size_t at = deck.find(from);
+  if (at == std::string::npos) return false;
+  deck.replace(at, from.size(), to);
+  std::ofstream(ex.deck) << deck;
+  return true;
+}
+
 }  // namespace signorini::test

@@ -49,15 +49,9 @@ inline std::vector<TubeSample> crush_tube(const std::string& example, const std:
                                           const std::string& fold_entry = "") {
   log::set_level(log::Level::warning);
   const ExampleDeck ex = example_deck_with(example, parameters);
+  const std::string entry = "{name: fold, surface: Inner, self: true}";
   if (!fold_entry.empty()) {
-    std::ifstream in(ex.deck);
-    std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    in.close();
-    const std::string entry = "{name: fold, surface: Inner, self: true}";
-    const size_t at = deck.find(entry);
-    EXPECT_NE(at, std::string::npos) << "no fold entry " << entry << " in the example";
-    if (at != std::string::npos) deck.replace(at, entry.size(), fold_entry);
-    std::ofstream(ex.deck) << deck;
+    EXPECT_TRUE(replace_in_deck(ex, entry, fold_entry)) << "no fold entry " << entry << " in the example";
   }
   Registry r = default_registry();
   Model m = read_deck(ex.deck.string(), r);

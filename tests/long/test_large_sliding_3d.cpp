@@ -17,7 +17,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 #include "example_deck.hpp"
 #include "signorini/core/log.hpp"
@@ -37,13 +36,9 @@ struct DragRun {
 DragRun drag_run(bool mortar) {
   log::set_level(log::Level::warning);
   const test::ExampleDeck ex = test::example_deck_with("sphere_drag_3d", "");
-  std::ifstream in(ex.deck);
-  std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
+  // node_to_segment: the example without its discretization line.
   const std::string line = "    discretization: mortar\n";
-  EXPECT_NE(deck.find(line), std::string::npos) << "the example is mortar";
-  if (!mortar && deck.find(line) != std::string::npos) deck.erase(deck.find(line), line.size());
-  std::ofstream(ex.deck) << deck;
+  EXPECT_TRUE(test::replace_in_deck(ex, line, mortar ? line : "")) << "the example is mortar";
   Registry r = default_registry();
   Model m = read_deck(ex.deck.string(), r);
   m.output.vtu = "none";

@@ -123,6 +123,28 @@ Model patch_model(const Patch3dCase& c, Real E, Real nu, Real p, Real slide = 0,
 
 namespace {
 
+// The patch's state after a run: the closed slave nodes' reported pressures, max |sigma_zz + p|
+// and max |sigma_xx| over both bodies' cells.
+struct PatchState {
+  int closed = 0;
+  Real pmin = 1e300, pmax = -1e300, szz = 0, sxx = 0;
+};
+PatchState patch_state(const Analysis& a, const Model& model, Real p) {
+  PatchState s;
+  for (const auto& ct : a.contacts())
+    for (const auto& ns : ct->slave_states()) {
+      if (ns.status != 2) continue;
+      s.pmin = std::min(s.pmin, ns.pressure);
+      s.pmax = std::max(s.pmax, ns.pressure);
+      ++s.closed;
+    }
+  for (auto& b : model.bodies) {
+    CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
+    for (auto& sg : cr.stress) s.szz = std::max(s.szz, std::abs(sg(2) + p)), s.sxx = std::max(s.sxx, std::abs(sg(0)));
+  }
+  return s;
+}
+
 void check_uniform_state(const Patch3dCase& c) {
   log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
   const Real E = 1000, nu = 0.4, p = 10;
@@ -132,20 +154,7 @@ void check_uniform_state(const Patch3dCase& c) {
   Analysis a(model);
   const AnalysisSummary sum = a.run();
   ASSERT_TRUE(sum.completed) << sum.failure;
-  Real pmin = 1e300, pmax = -1e300;
-  int closed = 0;
-  for (const auto& ct : a.contacts())
-    for (const auto& ns : ct->slave_states()) {
-      if (ns.status != 2) continue;
-      pmin = std::min(pmin, ns.pressure);
-      pmax = std::max(pmax, ns.pressure);
-      ++closed;
-    }
-  Real szz = 0;
-  for (auto& b : model.bodies) {
-    CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
-    for (auto& sg : cr.stress) szz = std::max(szz, std::abs(sg(2) + p));
-  }
+  [[maybe_unused]] const auto [closed, pmin, pmax, szz, sxx] = patch_state(a, model, p);
   std::printf("3D patch %s %s: %d closed slave nodes, pressure %.10g .. %.10g, max |sigma_zz + p| %.2e\n",
               element_info(c.punch).name.c_str(), element_info(c.foundation).name.c_str(), closed, pmin, pmax, szz);
   EXPECT_GT(closed, 0);
@@ -243,20 +252,7 @@ TEST(ContactPatch3dMortarSliding, SlidPunchCarriesTheUniformState) {
       const AnalysisSummary sum = a.run();
       ASSERT_TRUE(sum.completed) << what << ": " << sum.failure;
       const Real expected = finite ? p * l * l : p;
-      Real pmin = 1e300, pmax = -1e300;
-      int closed = 0;
-      for (const auto& ct : a.contacts())
-        for (const auto& ns : ct->slave_states()) {
-          if (ns.status != 2) continue;
-          pmin = std::min(pmin, ns.pressure);
-          pmax = std::max(pmax, ns.pressure);
-          ++closed;
-        }
-      Real szz = 0, sxx = 0;
-      for (auto& b : model.bodies) {
-        CellResults cr = b->results(model.mesh.nodes, a.displacement(), a.dofs());
-        for (auto& sg : cr.stress) szz = std::max(szz, std::abs(sg(2) + p)), sxx = std::max(sxx, std::abs(sg(0)));
-      }
+      const auto [closed, pmin, pmax, szz, sxx] = patch_state(a, model, p);
       // The lateral stretch: the foundation's node at (4, 0, 0) moves by 4 (l - 1) along x.
       const Index corner = model.mesh.node_sets.at("x_axis").front();
       const Real stretch = 1 + a.displacement()(a.dofs().dof(corner, 0)) / 4;
