@@ -410,9 +410,14 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   ContactCombination mortar3d_quadratic = mortar3d;
   mortar3d_quadratic.master_facet = ElementType::quad9;
   EXPECT_TRUE(check_contact_combination(mortar3d_quadratic).message.empty()) << "3D mortar on a quadratic master";
-  mortar3d_quadratic.slave_facet = ElementType::quad9;
+  for (ElementType t : {ElementType::tri6, ElementType::quad8, ElementType::quad9}) {
+    mortar3d_quadratic.slave_facet = t;
+    EXPECT_TRUE(check_contact_combination(mortar3d_quadratic).message.empty()) << "3D mortar on a quadratic slave";
+  }
+  mortar3d_quadratic.self = true;
+  mortar3d_quadratic.master_facet = mortar3d_quadratic.slave_facet;
   EXPECT_NE(check_contact_combination(mortar3d_quadratic).message.find("quad9"), std::string::npos);
-  EXPECT_EQ(check_contact_combination(mortar3d_quadratic).key, "discretization");
+  EXPECT_EQ(check_contact_combination(mortar3d_quadratic).key, "self");
   ContactCombination mortar3d_friction = mortar3d;
   mortar3d_friction.friction = "coulomb";
   EXPECT_TRUE(check_contact_combination(mortar3d_friction).message.empty()) << "3D mortar with friction";

@@ -1,8 +1,9 @@
-// The 3D dual mortar kinematics on linear facets (contact/discretization/mortar_3d.cpp): the
+// The 3D dual mortar kinematics on linear and quadratic facets (contact/discretization/mortar_3d.cpp): the
 // clipped cells tile the slave surface without gap or overlap (their areas sum to the slave's
 // area, and a uniform gap gives every node its gap times its nodal area), and the weighted gaps'
 // gradients and Hessians match central differences on curved, rotated, non-matching sheets
-// where the master covers some slave facets only in part; every pairing of tri3 and quad4.
+// where the master covers some slave facets only in part; linear and quadratic facets on both
+// sides (tri3, quad4, tri6, quad8, quad9).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -106,26 +107,40 @@ Real flat_gap(Real, Real) { return 0.1; }
 Real dome(Real X, Real Y) { return -0.15 * (X * X + 0.6 * Y * Y) + 0.05 * X; }
 Real wavy(Real X, Real Y) { return 0.04 + 0.08 * X - 0.05 * Y + 0.1 * X * Y - 0.05 * Y * Y; }
 
+// Facet types by node count: 3 tri3, 4 quad4, 6 tri6, 8 quad8, 9 quad9.
 struct Pairing {
-  bool slave_tri, master_tri;
-  int master_nodes = 0;  // 0: tri3 or quad4 as master_tri says; 6, 8, 9: tri6, quad8, quad9
-  int slave_nodes() const { return slave_tri ? 3 : 4; }
-  int masters() const { return master_nodes ? master_nodes : (master_tri ? 3 : 4); }
+  int slave, master;
+  int slave_nodes() const { return slave; }
+  int masters() const { return master; }
 };
-// Every linear slave on every master facet type.
-const Pairing kPairings[] = {{false, false}, {false, true}, {true, false}, {true, true},
-                             {false, false, 6}, {true, false, 8}, {false, false, 9}, {true, false, 9},
-                             {true, false, 6}, {false, false, 8}};
+// Every linear slave on every master facet type, and every quadratic slave on linear and
+// quadratic masters.
+const Pairing kPairings[] = {{4, 4}, {4, 3}, {3, 4}, {3, 3}, {4, 6}, {3, 8}, {4, 9}, {3, 9}, {3, 6}, {4, 8},
+                             {6, 3}, {6, 4}, {6, 6}, {6, 8}, {6, 9}, {8, 4}, {8, 6}, {8, 8}, {9, 3}, {9, 8},
+                             {9, 9}};
 std::string pairing_name(const Pairing& p) {
   static const char* names[10] = {"", "", "", "tri3", "quad4", "", "tri6", "", "quad8", "quad9"};
-  return std::string(p.slave_tri ? "tri3" : "quad4") + " on " + names[p.masters()];
+  return std::string(names[p.slave]) + " on " + names[p.master];
+}
+// The share of a flat facet's area that is node k's weight int N~_k dA (N~ the basis the dual
+// basis is built on, mortar_dual.hpp): tri3 1/3, quad4 1/4; tri6 (Bernstein: lambda_i^2,
+// 2 lambda_i lambda_j) 1/6 each; quad9 (tensor Bernstein) 1/9 each; quad8 with alpha = 3/8:
+// corners -1/12 + 2 (3/8) (1/3) = 1/6, mid-sides (1/4) (1/3) = 1/12.
+Real weight_share(int nodes, int k) {
+  switch (nodes) {
+    case 3: return 1.0 / 3;
+    case 4: return 0.25;
+    case 6: return 1.0 / 6;
+    case 8: return k < 4 ? 1.0 / 6 : 1.0 / 12;
+    default: return 1.0 / 9;
+  }
 }
 
 }  // namespace
 
 // Flat sheets 0.1 apart, the master grid rotated by 0.3 rad and covering the whole slave: the
 // cells' areas sum to the slave's area 4 and each node's weighted gap is 0.1 times its nodal
-// area int N_j dA (its share of the facets around it), to round-off.
+// area int N~_j dA (its share of the facets around it), to round-off.
 TEST(Mortar3d, CellsTileTheSlaveAndAUniformGapIsExact) {
   for (const Pairing& p : kPairings) {
     SCOPED_TRACE(pairing_name(p));
@@ -135,17 +150,17 @@ TEST(Mortar3d, CellsTileTheSlaveAndAUniformGapIsExact) {
     const std::vector<Real> g = s.weighted_gaps(nullptr, nullptr, &area);
     EXPECT_NEAR(area, 4.0, 1e-12) << "the cells tile the slave sheet";
     const Real h = 2.0 / n;
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const int node = j * (n + 1) + i;
-        // Nodal area: a quarter of each square around (quad4); a third of each triangle.
-        int squares = 0, triangles = 0;
-        for (Index f = 0; f < s.slave.size(); ++f)
-          for (Index k : s.slave.facets[f])
-            if (k == node) (s.slave.facets[f].size() == 3 ? triangles : squares) += 1;
-        const Real nodal = squares * h * h / 4 + triangles * h * h / 6;
-        EXPECT_NEAR(g[node], 0.1 * nodal, 1e-13) << "node " << node;
-      }
+    std::vector<Real> nodal(g.size(), 0.0);
+    for (Index f = 0; f < s.slave.size(); ++f) {
+      const auto& fc = s.slave.facets[f];
+      const Real area = fc.size() == 3 || fc.size() == 6 ? h * h / 2 : h * h;
+      for (size_t k = 0; k < fc.size(); ++k) nodal[fc[k]] += weight_share(p.slave_nodes(), static_cast<int>(k)) * area;
+    }
+    for (size_t node = 0; node < g.size(); ++node) {
+      if (p.slave_nodes() == 8 && nodal[node] == 0) continue;  // a quad8's centre: in no facet
+      EXPECT_GT(nodal[node], 0);
+      EXPECT_NEAR(g[node], 0.1 * nodal[node], 1e-13) << "node " << node;
+    }
   }
 }
 
@@ -213,14 +228,16 @@ TEST(Mortar3d, LinearGapIsReproducedAtTheNodes) {
     auto tilted = [](Real X, Real Y) { return 0.2 + 0.05 * X - 0.03 * Y; };
     const TwoSheets s(2, p.slave_nodes(), 5, p.masters(), -1.7, 1.7, 0.21, flat0, +tilted);
     const std::vector<Real> g = s.weighted_gaps();
-    // Weights: the nodal areas of the flat slave sheet (as in the first test).
+    // Weights: the nodal areas of the flat slave sheet (as in the first test). A linear gap's
+    // coefficients in N~ are its nodal values (T^T g = g: a mid-side value is its edge's mean).
     std::vector<Real> w(g.size(), 0.0);
     for (Index f = 0; f < s.slave.size(); ++f) {
       const auto& fc = s.slave.facets[f];
-      const Real a = fc.size() == 3 ? 0.5 : 1.0;  // facet area (h = 1)
-      for (Index k : fc) w[k] += a / static_cast<Real>(fc.size());
+      const Real a = fc.size() == 3 || fc.size() == 6 ? 0.5 : 1.0;  // facet area (h = 1)
+      for (size_t k = 0; k < fc.size(); ++k) w[fc[k]] += a * weight_share(p.slave_nodes(), static_cast<int>(k));
     }
     for (size_t j = 0; j < g.size(); ++j) {
+      if (w[j] == 0) continue;  // a quad8's centre
       const Vec3& X = s.x[j];
       // The gap along the slave normal (+z) to the plane z = 0.2 + 0.05 x - 0.03 y.
       EXPECT_NEAR(g[j] / w[j], 0.2 + 0.05 * X(0) - 0.03 * X(1), 1e-12) << "node " << j;

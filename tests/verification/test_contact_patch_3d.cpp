@@ -210,7 +210,11 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "augmented_lagrangian", 5e-2, "mortar"},
                       Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"},
-                      Patch3dCase{ElementType::hex8, ElementType::hex27, 3, "lagrange", 1e-8, "mortar"}),
+                      Patch3dCase{ElementType::hex8, ElementType::hex27, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex27, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::tet10, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"}),
     case_name);
 
 // The 3D mortar patch after sliding (issue 14: the patch "before and after the upper block

@@ -56,18 +56,20 @@ const std::vector<Rule>& rules() {
          return std::string("nitsche is frictionless so far: use lagrange, augmented_lagrangian or penalty with "
                             "friction");
        }},
-      {"tri6 or quad8 slave facets other than segment_to_segment (two passes: on either surface)",
+      {"tri6 or quad8 slave facets other than segment_to_segment or 3D mortar (two passes: on either surface)",
        [](const ContactCombination& c) {
          auto bad = [](ElementType t) { return t == ElementType::tri6 || t == ElementType::quad8; };
-         return c.discretization != "segment_to_segment" && (bad(c.slave_facet) || (c.passes == 2 && bad(c.master_facet)));
+         const bool transformed = c.discretization == "segment_to_segment" ||
+                                  (c.discretization == "mortar" && !is_2d(c.dimension));
+         return !transformed && (bad(c.slave_facet) || (c.passes == 2 && bad(c.master_facet)));
        },
        "slave",
        [](const ContactCombination&) {
          return std::string(
              "tri6 and quad8 slave facets give their corner nodes a zero or negative share of the contact area (the "
              "integrals of their shape functions), which a node-based discretization cannot use: use "
-             "discretization: segment_to_segment (its modified dual basis has positive weights), make the quadratic "
-             "side master, or use tri3, quad4 or quad9 (3D), line2 or line3 (2D) slave facets");
+             "discretization: mortar or segment_to_segment (their transformed bases have positive weights), make the "
+             "quadratic side master, or use tri3, quad4 or quad9 (3D), line2 or line3 (2D) slave facets");
        }},
       {"node_to_node with quadratic facets",
        [](const ContactCombination& c) {
@@ -78,15 +80,14 @@ const std::vector<Rule>& rules() {
          return std::string("node_to_node pairs slave nodes with master corner nodes and cannot use the mid-side nodes "
                             "of quadratic facets: use node_to_segment");
        }},
-      {"mortar in 3D on quadratic slave facets",
+      {"self-contact with mortar in 3D on quadratic facets",
        [](const ContactCombination& c) {
-         return c.discretization == "mortar" && !is_2d(c.dimension) && !linear(c.slave_facet);
+         return c.self && c.discretization == "mortar" && !is_2d(c.dimension) && !linear(c.slave_facet);
        },
-       "discretization",
+       "self",
        [](const ContactCombination& c) {
-         return "mortar in 3D takes linear slave facets (tri3, quad4) so far, not " +
-                std::string(element_info(c.slave_facet).name) +
-                ": make the quadratic surface (tet10, hex20, hex27) the master, or use segment_to_segment";
+         return "self-contact with mortar in 3D takes linear facets (tri3, quad4) so far, not " +
+                std::string(element_info(c.slave_facet).name) + ": use node_to_segment";
        }},
       {"segment_to_segment with friction on quadratic master facets in 3D",
        [](const ContactCombination& c) {

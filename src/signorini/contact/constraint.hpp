@@ -15,6 +15,11 @@ struct Constraint {
   Index slave = -1;        // slave node
   Index facet = -1;        // master facet (segment, edge: a facet along the edge), or master node (vertex, node)
   Real weight = 0;         // tributary area of the slave node
+  // The reported pressure per multiplier where the discretization reports the multiplier
+  // (Discretization::pressure_is_multiplier): 1, or for 3D mortar on quadratic slave facets
+  // int_c N~_j dA / int N~_j dA0, its current covered weight over its reference one (the
+  // multiplier is per current area, the reported pressure per reference area).
+  Real pressure_factor = 1;
   Real gap = 0;
   Vec3 normal = Vec3::Zero();
   std::vector<Index> nodes;  // slave, then master nodes

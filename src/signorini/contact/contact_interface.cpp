@@ -20,7 +20,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   check_contact_pair(s_, mesh, as.dimension);  // the compatibility table (the deck reader checked it with the place)
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
-  slave_ = make_slave_surface(mesh, s_.slave, as, s_.discretization == "segment_to_segment" && !s_.rigid);
+  slave_ = make_slave_surface(mesh, s_.slave, as, slave_basis(s_.discretization, s_.rigid, dim_ == 3));
   if (second_pass) {
     // A node that coincides with a node of the other surface carries the same constraint in
     // both passes: keep it once (twice makes the multiplier system singular).
@@ -404,7 +404,7 @@ void ContactInterface::set_reported_pressure(const std::vector<Vec3>& nodal_forc
     const Constraint& c = constraints_[j];
     if (c.kind == ConstraintKind::none || c.weight <= 0) nodes_[j].reported_pressure = 0;
     else if (discretization_->pressure_is_multiplier())
-      nodes_[j].reported_pressure = j < state_.pressure.size() ? state_.pressure[j] : 0.0;
+      nodes_[j].reported_pressure = j < state_.pressure.size() ? state_.pressure[j] * c.pressure_factor : 0.0;
     else nodes_[j].reported_pressure = nodal_force[c.slave].dot(c.normal) / c.weight;
   }
 }

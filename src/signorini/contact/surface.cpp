@@ -5,6 +5,7 @@
 #include <optional>
 #include <map>
 
+#include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/segment_to_segment.hpp"
 #include "signorini/contact/geometry/facet_projection.hpp"
 #include "signorini/core/error.hpp"
@@ -267,8 +268,15 @@ MasterSurface make_master_surface(const Mesh& mesh, const std::string& set) {
   return m;
 }
 
+SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d) {
+  if (rigid_master) return SlaveBasis::standard;
+  if (discretization == "segment_to_segment") return SlaveBasis::modified;
+  if (discretization == "mortar" && three_d) return SlaveBasis::positive;
+  return SlaveBasis::standard;
+}
+
 SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const AnalysisSettings& settings,
-                                bool modified_basis) {
+                                SlaveBasis basis) {
   const int dim = settings.spatial_dim();
   std::vector<Real> w(mesh.num_nodes(), 0.0), area(mesh.num_nodes(), 0.0);
   std::vector<char> used(mesh.num_nodes(), 0), on_axis(mesh.num_nodes(), 0), axis_quadratic(mesh.num_nodes(), 0);
@@ -282,7 +290,8 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
         MatX dN;
         shape_functions(b.type, q.xi, N, dN);
         VecX Nw = N;
-        if (modified_basis) modified_shape_functions(b.type, N, Nw);
+        if (basis == SlaveBasis::modified) modified_shape_functions(b.type, N, Nw);
+        else if (basis == SlaveBasis::positive) mortar_positive_basis(N, Nw);
         Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero(), x = Vec3::Zero();
         for (int i = 0; i < info.num_nodes; ++i) {
           x += N(i) * mesh.nodes[c[i]];
@@ -316,7 +325,7 @@ SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& set, const 
         throw Error("slave surface '" + set + "': node " + std::to_string(mesh.node_ids[n]) +
                     " gets a non-positive contact area from its facets (tri6 and quad8 corner nodes do): "
                     "node-to-segment needs linear facets (line2, tri3, quad4) or line3/quad9 on the slave side "
-                    "(segment_to_segment takes every facet type)");
+                    "(segment_to_segment takes every facet type, and mortar in 3D)");
       s.nodes.push_back(n);
       s.weights.push_back(w[n]);
     }

@@ -61,10 +61,16 @@ struct SlaveSurface {
 ConstraintSet open_constraints(const SlaveSurface& slave);
 
 MasterSurface make_master_surface(const Mesh& mesh, const std::string& facet_set);
-// Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8), unless
-// `modified_basis`: the weights are then the integrals of the modified basis of
-// segment_to_segment.hpp (positive for every facet type).
+// The basis whose integrals int N~_j dA0 are the slave nodes' weights: the shape functions
+// (`standard`), segment_to_segment's modified basis (segment_to_segment.hpp, Popp et al.'s
+// alpha = 1/5), or 3D mortar's transformed basis of non-negative functions (mortar.hpp,
+// mortar_positive_basis); the last two differ from N on quadratic facets only.
+enum class SlaveBasis { standard, modified, positive };
+// The basis a pair's discretization weighs its slave nodes with.
+SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d);
+// Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8 with the
+// standard basis; the other two are positive for every facet type).
 SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& facet_set, const AnalysisSettings& settings,
-                                bool modified_basis = false);
+                                SlaveBasis basis = SlaveBasis::standard);
 
 }  // namespace signorini

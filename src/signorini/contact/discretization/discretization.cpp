@@ -557,6 +557,7 @@ class Mortar final : public DeformableMaster {
     index_.assign(mesh.num_nodes(), -1);
     for (size_t j = 0; j < slave_.nodes.size(); ++j) index_[slave_.nodes[j]] = static_cast<Index>(j);
     candidates_.assign(slave_facets_.size(), {});
+    for (ElementType t : slave_facets_.type) quadratic_slave_ = quadratic_slave_ || (dim_ == 3 && element_info(t).order > 1);
     if (self_) {
       // 2D: the weights of line3's transformed basis; 3D (tri3, quad4 facets, non-negative
       // functions): the slave's own weights int N_j dA0.
@@ -580,6 +581,11 @@ class Mortar final : public DeformableMaster {
     }
   }
   std::string name() const override { return self_ ? "self_mortar" : "mortar"; }
+  // On quadratic slave facets in 3D a uniform pressure gives the corner nodes of tri6 and quad8
+  // no or negative nodal force (int N_corner dA <= 0): the reported pressure is then the
+  // multiplier, the dual pressure's nodal value (the coefficient of N~_j, as the gap), per
+  // reference area (Constraint::pressure_factor).
+  bool pressure_is_multiplier() const override { return quadratic_slave_; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     if (self_) self_candidates(x, dmax);
@@ -637,6 +643,7 @@ class Mortar final : public DeformableMaster {
       c.gap /= scale;
       c.grad /= scale;
       c.hess /= scale;
+      if (quadratic_slave_) c.pressure_factor = slip_weight[j] / c.weight;
       set_slave_normal(slave_facets_, x, c);
       // The slip origin (after the normal, which may append nodes the slip does not involve);
       // the weight is positive wherever a segment covers the node's facets (N~ >= 0).
@@ -736,6 +743,7 @@ class Mortar final : public DeformableMaster {
   }
 
   bool self_;
+  bool quadratic_slave_ = false;  // 3D, a tri6, quad8 or quad9 slave facet
   MortarMeasure measure_;
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)

@@ -276,7 +276,7 @@ bool segment_derivatives(const Layout& L, const std::vector<Vec3>& xl, const Mor
   const int nl = static_cast<int>(xl.size());
   std::vector<P2<HD>> X(nl);
   for (int i = 0; i < nl; ++i) X[i] = {HD::input(xl[i](0), 2 * i), HD::input(xl[i](1), 2 * i + 1)};
-  HD u[kMaxU];
+  HD u[kMaxU2d];
   Real seglen = 0, cover = 0;
   if (!segment_integrals(L, X, ms, u, seglen, cover)) return false;
   const int nu = num_u(L.ns);
@@ -326,13 +326,51 @@ Layout make_layout(const MasterSurface& slave, Index e, const MasterSurface& mas
 
 }  // namespace
 
-void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, bool positive_basis,
-                                             const std::vector<SegmentIntegrals>& segments, MortarFacetResult& r) {
+BasisTransform mortar_detail::basis_transform(int dim, int ns, bool positive) {
+  BasisTransform tr;
+  const bool line3 = dim == 2 && ns == 3 && positive, tri6 = dim == 3 && ns == 6, quad8 = dim == 3 && ns == 8;
+  if (!(line3 || tri6 || quad8 || (dim == 3 && ns == 9))) return tr;
+  tr.identity = false;
+  if (dim == 3 && ns == 9) {
+    // Tensor product of line3's transform over the 1D node positions (-1, 0, 1) of each node.
+    const Real t1[3][3] = {{1, kTransform, 0}, {0, 1 - 2 * kTransform, 0}, {0, kTransform, 1}};
+    static constexpr int ia[9] = {0, 2, 2, 0, 1, 2, 1, 0, 1}, ib[9] = {0, 0, 2, 2, 0, 1, 2, 1, 1};
+    for (int i = 0; i < 9; ++i)
+      for (int k = 0; k < 9; ++k) tr.t[i][k] = t1[ia[i]][ia[k]] * t1[ib[i]][ib[k]];
+    return tr;
+  }
+  // Corners 0..nc-1, then the mid-side node of edge (k, k+1) at nc + k (line3: its one mid-side).
+  const int nc = line3 ? 2 : tri6 ? 3 : 4;
+  const Real alpha = quad8 ? 0.375 : kTransform;
+  for (int k = 0; k < ns; ++k) tr.t[k][k] = k < nc ? 1 : 1 - 2 * alpha;
+  for (int k = 0; k < (line3 ? 1 : nc); ++k) {
+    tr.t[k][nc + k] = alpha;
+    tr.t[(k + 1) % nc][nc + k] = alpha;
+  }
+  return tr;
+}
+
+void mortar_positive_basis(const VecX& N, VecX& Nt) {
+  const int ns = static_cast<int>(N.size());
+  const BasisTransform tr = basis_transform(3, ns, false);
+  Nt = N;
+  if (tr.identity) return;
+  for (int i = 0; i < ns; ++i) {
+    Nt(i) = 0;
+    for (int k = 0; k < ns; ++k) Nt(i) += tr.t[i][k] * N(k);
+  }
+}
+
+namespace {
+template <int NU>
+void weighted_gap_derivatives_on(int dim, int ns, const Real* u, const BasisTransform& tr,
+                                 const std::vector<SegmentIntegrals>& segments, MortarFacetResult& r) {
   const int nu = num_u(ns);
-  using HU = HyperDual<kMaxU>;
-  HU uh[kMaxU], gh[kMaxNs];
+  using HU = HyperDual<NU>;
+  // On the heap: a quad9's 54 inputs make each number 23 kB.
+  std::vector<HU> uh(nu), gh(ns);
   for (int i = 0; i < nu; ++i) uh[i] = HU::input(u[i], i);
-  dual_weighted_gaps(ns, uh, positive_basis, gh);
+  dual_weighted_gaps(ns, uh.data(), tr, gh.data());
   const Index nd = dim * static_cast<Index>(r.nodes.size());
   // Without the segments' Hessians (3D, a residual only): gradients only, r.hess empty.
   const bool hessian = std::all_of(segments.begin(), segments.end(), [](const SegmentIntegrals& s) { return !s.hess.empty(); });
@@ -350,8 +388,8 @@ void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, boo
     }
   }
   for (int j = 0; j < ns; ++j) {
-    const Eigen::Matrix<Real, kMaxU, 1> fa = gh[j].g;
-    const Eigen::Matrix<Real, kMaxU, kMaxU> fab = gh[j].h;
+    const VecX fa = gh[j].g;
+    const MatX fab = gh[j].h;
     r.grad[j] = Gsum * fa.head(nu);
     if (!hessian) continue;
     r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
@@ -367,6 +405,18 @@ void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, boo
       }
     }
   }
+}
+}  // namespace
+
+void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, const BasisTransform& tr,
+                                             const std::vector<SegmentIntegrals>& segments, MortarFacetResult& r) {
+  // Sized by the integrals' count: 5 and 9 (line2, line3; tri3), 14 (quad4), 27 (tri6), 44 (quad8), 54 (quad9).
+  const int nu = num_u(ns);
+  if (nu <= 9) weighted_gap_derivatives_on<9>(dim, ns, u, tr, segments, r);
+  else if (nu <= 14) weighted_gap_derivatives_on<14>(dim, ns, u, tr, segments, r);
+  else if (nu <= 27) weighted_gap_derivatives_on<27>(dim, ns, u, tr, segments, r);
+  else if (nu <= 44) weighted_gap_derivatives_on<44>(dim, ns, u, tr, segments, r);
+  else weighted_gap_derivatives_on<kMaxU>(dim, ns, u, tr, segments, r);
 }
 
 MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,
@@ -438,13 +488,13 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   }
   r.overlap = true;
   Real gap[3];
-  dual_weighted_gaps(ns, u, positive_basis, gap);
+  dual_weighted_gaps(ns, u, basis_transform(2, ns, positive_basis), gap);
   r.gap.assign(gap, gap + ns);
   r.relative = std::move(relative);
   r.slip_weight = std::move(slip_weight);
   if (!derivatives) return r;
 
-  mortar_detail::weighted_gap_derivatives(2, ns, u, positive_basis, segments, r);
+  mortar_detail::weighted_gap_derivatives(2, ns, u, basis_transform(2, ns, positive_basis), segments, r);
   return r;
 }
 

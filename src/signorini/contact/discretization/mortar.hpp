@@ -74,6 +74,11 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives,
                                     bool hessian = true);
 
+// N~ from N (the shape functions of a 3D slave facet, whose count tells its type) as in
+// mortar_dual.hpp, basis_transform: non-negative functions, N itself on tri3 and quad4; the basis
+// 3D mortar's dual basis and node weights are built on.
+void mortar_positive_basis(const VecX& N, VecX& Nt);
+
 // The reference weight int N_j dA0 of each slave node (indexed by mesh node, 0 elsewhere; X the
 // reference positions); with `positive_basis`, of the transformed line3 basis (mortar.cpp).
 void mortar_slave_weights(const MasterSurface& slave, const std::vector<Vec3>& X, const MortarMeasure& measure,

@@ -340,7 +340,7 @@ const std::vector<CellPoint>& cell_rule() {
 // One integration point of the cells, for friction's slip (plain numbers): the slave and master
 // shape functions there and the point's weight (rule weight times current dA).
 struct CellSample {
-  Real N[4], M[kMaxFacetNodes], w;
+  Real N[kMaxFacetNodes], M[kMaxFacetNodes], w;
 };
 
 // The integrals u (mortar_dual.hpp) of slave facet xs (ns nodes) against master facet xm (nm
@@ -352,7 +352,7 @@ template <class T>
 bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover,
                     std::vector<CellSample>* points = nullptr) {
   const Reference& ref = reference(ns);
-  T N[4], Na[4], Nb[4];
+  T N[kMaxFacetNodes], Na[kMaxFacetNodes], Nb[kMaxFacetNodes];
   shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
   const V3<T> t1 = interpolate(ns, Na, xs), t2 = interpolate(ns, Nb, xs);
   const V3<T> m0 = cross(t1, t2);
@@ -509,7 +509,7 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
 // HD = HyperDual<NV> (gradients and Hessians) or Dual<NV> (gradients only: s.hess stays empty).
 template <class HD>
 bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegrals& s, Real& area, Real& cover) {
-  V3<HD> xs[4], xm[kMaxFacetNodes];
+  V3<HD> xs[kMaxFacetNodes], xm[kMaxFacetNodes];
   auto input = [&](int i) {
     if (i == 0) return V3<HD>{HD(xl[0](0)), HD(xl[0](1)), HD(xl[0](2))};
     const int k = 3 * (i - 1);
@@ -517,8 +517,8 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
   };
   for (int k = 0; k < ns; ++k) xs[k] = input(k);
   for (int k = 0; k < nm; ++k) xm[k] = input(ns + k);
-  HD u[kMaxU];
-  if (!cell_integrals(ns, nm, xs, xm, u, area, cover)) return false;
+  std::vector<HD> u(num_u(ns));  // on the heap: up to 54 numbers of 21 kB (quad9 on quad9)
+  if (!cell_integrals(ns, nm, xs, xm, u.data(), area, cover)) return false;
   const int nu = num_u(ns), nd = 3 * (ns + nm), nr = nd - 3;
   MatX P = MatX::Zero(nd, nr);
   P.bottomRows(nr).setIdentity();
@@ -545,7 +545,11 @@ bool derivatives_for(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegra
     case 6: return cell_derivatives<AD<24>>(ns, nm, xl, s, area, cover);
     case 7: return cell_derivatives<AD<28>>(ns, nm, xl, s, area, cover);
     case 8: return cell_derivatives<AD<32>>(ns, nm, xl, s, area, cover);
-    case 9: return cell_derivatives<AD<36>>(ns, nm, xl, s, area, cover);  // quad4 on quad9
+    case 9: return cell_derivatives<AD<36>>(ns, nm, xl, s, area, cover);  // quad4 on quad9, tri6 on tri6
+    case 10: return cell_derivatives<AD<40>>(ns, nm, xl, s, area, cover);
+    case 11: return cell_derivatives<AD<44>>(ns, nm, xl, s, area, cover);  // tri6 on quad9
+    case 12: return cell_derivatives<AD<48>>(ns, nm, xl, s, area, cover);
+    case 13: return cell_derivatives<AD<52>>(ns, nm, xl, s, area, cover);  // quad9 on quad9
     default: throw Error("mortar (3D): a facet pair has more nodes than expected (" + std::to_string(ns + nm) + ")");
   }
 }
@@ -558,13 +562,15 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   MortarFacetResult r;
   const std::vector<Index>& sf = slave.facets[e];
   const int ns = static_cast<int>(sf.size());
-  if (ns != 3 && ns != 4)
-    throw Error("mortar (3D): slave facets must be tri3 or quad4 (a facet has " + std::to_string(ns) + " nodes)");
+  if (ns != 3 && ns != 4 && ns != 6 && ns != 8 && ns != 9)
+    throw Error("mortar (3D): slave facets must be tri3, tri6, quad4, quad8 or quad9 (a facet has " +
+                std::to_string(ns) + " nodes)");
+  const BasisTransform tr = basis_transform(3, ns, false);
   const int nu = num_u(ns);
   Real u[kMaxU] = {};
   Real cover = 0, best = 0;
   std::vector<SegmentIntegrals> cells;
-  V3<Real> xs[4], xm[kMaxFacetNodes];
+  V3<Real> xs[kMaxFacetNodes], xm[kMaxFacetNodes];
   for (int k = 0; k < ns; ++k) xs[k] = {x[sf[k]](0), x[sf[k]](1), x[sf[k]](2)};
   r.nodes.assign(sf.begin(), sf.end());
   std::vector<CellSample> points;
@@ -601,7 +607,7 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
     r.masters.push_back(m);
     cover += c;
     for (int i = 0; i < nu; ++i) u[i] += us[i];
-    int at[4 + kMaxFacetNodes];
+    int at[2 * kMaxFacetNodes];
     for (int k = 0; k < ns + nm; ++k) {
       const Index n = k < ns ? sf[k] : mf[k - ns];
       auto it = std::find(r.nodes.begin(), r.nodes.end(), n);
@@ -611,12 +617,17 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
         for (VecX& v : relative) v.conservativeResize(static_cast<Index>(r.nodes.size())), v.tail(1).setZero();
       }
     }
-    // Friction's relative positions: per slave facet node k, sum_q N_k(xi_q) w_q (x_s(xi_q) -
-    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N_k w_q (N >= 0 on tri3 and
-    // quad4: no transformed basis needed), as in 2D.
+    // Friction's relative positions: per slave facet node k, sum_q N~_k(xi_q) w_q (x_s(xi_q) -
+    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q (N~ >= 0: N itself
+    // on tri3 and quad4, basis_transform's on quadratic facets), as in 2D.
     for (const CellSample& q : points)
       for (int k = 0; k < ns; ++k) {
-        const Real wk = q.N[k] * q.w;
+        Real nt = q.N[k];
+        if (!tr.identity) {
+          nt = 0;
+          for (int i = 0; i < ns; ++i) nt += tr.t[k][i] * q.N[i];
+        }
+        const Real wk = nt * q.w;
         slip_weight[k] += wk;
         for (int i = 0; i < ns; ++i) relative[k](at[i]) += wk * q.N[i];
         for (int l = 0; l < nm; ++l) relative[k](at[ns + l]) -= wk * q.M[l];
@@ -633,11 +644,11 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   }
   r.overlap = true;
   Real gap[kMaxNs];
-  dual_weighted_gaps(ns, u, false, gap);
+  dual_weighted_gaps(ns, u, tr, gap);
   r.gap.assign(gap, gap + ns);
   r.relative = std::move(relative);
   r.slip_weight = std::move(slip_weight);
-  if (derivatives) weighted_gap_derivatives(3, ns, u, false, cells, r);
+  if (derivatives) weighted_gap_derivatives(3, ns, u, tr, cells, r);
   return r;
 }
 
