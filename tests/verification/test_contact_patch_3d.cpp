@@ -352,5 +352,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::hex8, ElementType::hex8, 3, "lagrange", 0, "mortar"},
                       Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "lagrange", 0, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::tet4, 3, "penalty", 0, "mortar"},
-                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "augmented_lagrangian", 0, "mortar"}),
+                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "augmented_lagrangian", 0, "mortar"},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 0, "mortar"},
+                      Patch3dCase{ElementType::hex20, ElementType::hex8, 3, "augmented_lagrangian", 0, "mortar"},
+                      Patch3dCase{ElementType::hex27, ElementType::tet4, 3, "penalty", 0, "mortar"}),
     case_name);
