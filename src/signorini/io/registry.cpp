@@ -316,8 +316,9 @@ void register_deck_sections(Registry& r) {
                    std::nullopt, ParamKind::vector)),
           choice("discretization",
                  "node_to_segment (with node-to-edge and node-to-vertex), node_to_node (matching meshes), or mortar "
-                 "(segment-based dual mortar: weighted gaps per slave node; 2D, with friction and self-contact; 3D on tri3 "
-                 "and quad4 slave facets on any master facets, with friction), or "
+                 "(segment-based dual mortar: weighted gaps per slave node; 2D and 3D, every facet type incl. tri6 and quad8 "
+                 "slaves (a transformed basis of non-negative functions), with friction; self-contact in 2D and on "
+                 "tri3 and quad4 facets in 3D), or "
                  "segment_to_segment "
                  "(the slave facets' Gauss points projected on the master, gathered per slave node with dual weights; "
                  "2D and 3D, every facet type incl. tri6 and quad8; friction in 2D, and in 3D on linear master facets)",

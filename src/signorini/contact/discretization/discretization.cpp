@@ -526,10 +526,11 @@ class NodeToNode final : public DeformableMaster {
 };
 
 
-// Dual mortar (2D; 3D with tri3 and quad4 slave facets: mortar.hpp): one weighted gap per
+// Dual mortar (2D and 3D, every facet type: mortar.hpp): one weighted gap per
 // slave node, integrated over the segments
 // of its slave facets against the master facets they overlap. The constraint's gap is
-// g~_j / w_j (w_j the node's reference tributary area, the constraint's weight), so that
+// g~_j / w_j (w_j the node's reference weight int N~_j dA0, the constraint's weight; N~ = N but
+// on quadratic slave facets in 3D, whose transformed basis the dual one is built on), so that
 // enforcement's force p w_j grad(g~_j / w_j) = p grad g~_j is the mortar virtual work with
 // the nodal pressure p as the dual multiplier.
 //
@@ -560,7 +561,7 @@ class Mortar final : public DeformableMaster {
     for (ElementType t : slave_facets_.type) quadratic_slave_ = quadratic_slave_ || (dim_ == 3 && element_info(t).order > 1);
     if (self_) {
       // 2D: the weights of line3's transformed basis; 3D (tri3, quad4 facets, non-negative
-      // functions): the slave's own weights int N_j dA0.
+      // functions): the slave's own weights int N_j dA0 (slave_basis: positive).
       if (dim_ == 2) {
         std::vector<Real> w;
         mortar_slave_weights(slave_facets_, mesh.nodes, measure_, true, w);
@@ -592,12 +593,37 @@ class Mortar final : public DeformableMaster {
     // 3D: the margin bounded by the facet's distance, size and the motion expected, as for
     // segment_to_segment (each candidate pair costs a clipping on hyper-dual numbers).
     else facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_, dim_ == 3 ? motion : -1);
+    // 3D: the candidates that overlap (clipped in plain numbers), for coupled_nodes.
+    if (dim_ == 3 && !self_) {
+      const Index ne = slave_facets_.size();
+      overlapping_.assign(ne, {});
+#pragma omp parallel for schedule(dynamic, 8)
+      for (Index e = 0; e < ne; ++e)
+        if (!candidates_[e].empty())
+          overlapping_[e] = mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, false).masters;
+    }
   }
 
   void coupled_nodes(size_t j, std::vector<Index>& nodes) const override {
     // 2D: the ring of facets around (the averaged normals along the facet); 3D: the gap is
-    // measured along the facet's own normal, and the slip normal is the node's.
-    facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], dim_ == 2, nodes);
+    // measured along the facet's own normal, and the slip normal is the node's. In 3D the
+    // masters are those that overlapped at the last evaluation (the search's clipping, then
+    // each assembly's): a slave facet of the tet10 Hertz sphere has some 20 candidates, 4 to 6 of
+    // which overlap, and the candidates' couplings took the fine mesh's matrix from 19 to 26
+    // million entries (5.8 GB to factorize). A master that starts to overlap during the
+    // iterations puts its entries outside the pattern, which Analysis rebuilds then.
+    if (!(dim_ == 3 && !self_)) return facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], dim_ == 2, nodes);
+    // The overlapping masters and their neighbours among the candidates (a master that starts
+    // to overlap is most often next to one that does).
+    std::vector<std::vector<Index>> near(slave_facets_.size());
+    for (Index e : slave_facets_.node_facets[slave_.nodes[j]]) {
+      std::set<Index> s;
+      for (Index f : overlapping_[e])
+        for (Index g : master_.neighbourhood(f)) s.insert(g);
+      for (Index f : candidates_[e])
+        if (s.count(f)) near[e].push_back(f);
+    }
+    facet_coupled_nodes(slave_facets_, near, slave_.nodes[j], false, nodes);
   }
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
@@ -605,11 +631,14 @@ class Mortar final : public DeformableMaster {
     const Index ne = slave_facets_.size();
     std::vector<std::vector<MortarFacetResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
+    overlapping_.resize(ne);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
+      overlapping_[e].clear();
       if (candidates_[e].empty()) continue;
       MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
                                       : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
+      overlapping_[e] = r.masters;
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));
@@ -748,6 +777,9 @@ class Mortar final : public DeformableMaster {
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
+  // Per slave facet, the master facets it overlapped at the last evaluation (3D: coupled_nodes);
+  // written by build (const: a cache of its result, one facet per thread).
+  mutable std::vector<std::vector<Index>> overlapping_;
   std::vector<std::vector<Index>> excluded_;     // self-contact, per facet: its two-ring (sorted)
   std::vector<Real> gap_scale_;                  // self-contact, per slave node: int N~_j dA0
   std::vector<int> color_;                       // self-contact, per facet: 0 slave, 1 master, -1 neither

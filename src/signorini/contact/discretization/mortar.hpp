@@ -1,4 +1,4 @@
-// Segment-based dual mortar contact in 2D and, on linear facets, 3D (mortar_3d.cpp). 2D: (Popp, Gitterle, Gee, Wall 2010, "A dual mortar
+// Segment-based dual mortar contact in 2D and 3D (mortar_3d.cpp). 2D: (Popp, Gitterle, Gee, Wall 2010, "A dual mortar
 // approach for 2D finite deformation frictional contact problems", CMAME 199; Wohlmuth 2000
 // for the dual basis). Per slave node j the weighted gap
 //   g~_j = int_{Gamma_s} Phi_j g dA,   g = (x_m(chi(xi)) - x_s(xi)) . n(xi) / |n(xi)|,
@@ -62,12 +62,14 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x,
                                     const MortarMeasure& measure, bool derivatives, bool positive_basis = false);
 
-// Slave facet e (tri3 or quad4) against the facets `masters` (tri3, tri6, quad4, quad8, quad9) in 3D
-// (mortar_3d.cpp): the master facets' corners projected along the slave facet's centre normal
-// onto its parameter plane, clipped against its reference element, the clipped polygon
-// integrated in triangles from its centroid; the dual basis on the covered part as in 2D.
+// Slave facet e (tri3, tri6, quad4, quad8, quad9) against the facets `masters` (the same types)
+// in 3D (mortar_3d.cpp): the master facets' corners projected along the slave facet's centre
+// normal onto its parameter plane, clipped against its reference element, the clipped polygon
+// integrated in triangles from its centroid; the dual basis on the covered part as in 2D, on
+// quadratic slave facets of the transformed basis N~ (mortar_dual.hpp, basis_transform:
+// non-negative functions; the gaps are then the N~ coefficients' weighted gaps).
 // `segment_length` is the covered current area; `relative` and `slip_weight` from the cells'
-// rule points (N~ = N, non-negative on tri3 and quad4). Without `hessian` (a residual without its
+// rule points with N~ (N itself on tri3 and quad4). Without `hessian` (a residual without its
 // Newton matrix) the derivatives are gradients only (`hess` stays empty), on first-order dual
 // numbers: a sixth of the time on the tet4 Hertz sphere.
 MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,

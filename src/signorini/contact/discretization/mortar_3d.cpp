@@ -1,5 +1,5 @@
-// Segment-based dual mortar in 3D: linear slave facets (tri3, quad4) on linear or quadratic
-// master facets (tri3, tri6, quad4, quad8, quad9), mortar.hpp.
+// Segment-based dual mortar in 3D: slave and master facets of every type (tri3, tri6, quad4,
+// quad8, quad9), mortar.hpp.
 //
 // Per slave facet e and master facet m (Puso and Laursen 2004, "A mortar segment-to-segment
 // contact method for large deformation solid mechanics", CMAME 193; Popp, Gee and Wall 2009,
@@ -19,7 +19,10 @@
 //    polygon's moments);
 //  - G_k = int N_k g dA, M_ik = int N_i N_k dA with dA = |a_1 x a_2| dxi, summed over the
 //    master facets, give the weighted gaps through the dual basis on the covered part
-//    (mortar_dual.hpp), as in 2D.
+//    (mortar_dual.hpp), as in 2D; on quadratic slave facets the dual basis is built on a
+//    transformed basis N~ of non-negative functions (Popp, Wohlmuth, Gee and Wall 2012;
+//    mortar_dual.hpp, basis_transform), whose weights int_c N~_j dA are positive on any
+//    covered part c (a tri6 corner's int N_j dA is zero).
 // The cells of neighbouring master facets share the projected images of the master's common
 // edge, so they tile the covered part of the slave's parameter plane without gap or overlap
 // (on a quad4 slave the image of a master edge is approximated by its chord in the parameter
@@ -30,7 +33,9 @@
 // nodal normals of the 2D mortar (those would make the integrals depend on the neighbouring
 // facets' nodes too); on a flat interface the two agree.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 #include <type_traits>
 
 #include "signorini/contact/discretization/mortar.hpp"
@@ -155,6 +160,27 @@ void shape(int nn, const T& a, const T& b, T* N, T* Na, T* Nb) {
     Nb[i] = La[ia[i]] * dLb[ib[i]];
   }
 }
+// Scratch arrays of numbers that are all assigned before they are read (shape functions): a
+// hyper-dual number is not zeroed first (a 36-input one is 10 kB, and the shape functions'
+// arrays at every rule point were zeroed 80 times over: a fifth of the tri6 mortar's time).
+template <class T>
+struct IsHyperDual : std::false_type {};
+template <int N>
+struct IsHyperDual<HyperDual<N>> : std::true_type {};
+template <class T>
+T scratch_number() {
+  if constexpr (IsHyperDual<T>::value) return T(typename T::Uninitialized{});
+  else return T();
+}
+template <class T, size_t... I>
+std::array<T, sizeof...(I)> scratch_array(std::index_sequence<I...>) {
+  return {{(static_cast<void>(I), scratch_number<T>())...}};
+}
+template <class T>
+std::array<T, kMaxFacetNodes> scratch_shape() {
+  return scratch_array<T>(std::make_index_sequence<kMaxFacetNodes>());
+}
+
 template <class T>
 V3<T> interpolate(int nn, const T* N, const V3<T>* x) {
   V3<T> p{T(0), T(0), T(0)};
@@ -221,9 +247,10 @@ inline int corners(int nn) { return nn == 3 || nn == 6 ? 3 : 4; }
 template <class T>
 V2<T> projection_step(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, const V2<T>& xi,
                       T& det) {
-  T N[kMaxFacetNodes], Na[kMaxFacetNodes], Nb[kMaxFacetNodes];
-  shape(nn, xi.a, xi.b, N, Na, Nb);
-  const V3<T> r = interpolate(nn, N, xf) - p, a1 = interpolate(nn, Na, xf), a2 = interpolate(nn, Nb, xf);
+  std::array<T, kMaxFacetNodes> N = scratch_shape<T>(), Na = scratch_shape<T>(), Nb = scratch_shape<T>();
+  shape(nn, xi.a, xi.b, N.data(), Na.data(), Nb.data());
+  const V3<T> r = interpolate(nn, N.data(), xf) - p, a1 = interpolate(nn, Na.data(), xf),
+              a2 = interpolate(nn, Nb.data(), xf);
   const T F1 = dot(r, t1), F2 = dot(r, t2);
   const T J11 = dot(a1, t1), J12 = dot(a2, t1), J21 = dot(a1, t2), J22 = dot(a2, t2);
   det = J11 * J22 - J12 * J21;
@@ -352,7 +379,8 @@ template <class T>
 bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover,
                     std::vector<CellSample>* points = nullptr) {
   const Reference& ref = reference(ns);
-  T N[kMaxFacetNodes], Na[kMaxFacetNodes], Nb[kMaxFacetNodes];
+  std::array<T, kMaxFacetNodes> Nv = scratch_shape<T>(), Nav = scratch_shape<T>(), Nbv = scratch_shape<T>();
+  T *N = Nv.data(), *Na = Nav.data(), *Nb = Nbv.data();
   shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
   const V3<T> t1 = interpolate(ns, Na, xs), t2 = interpolate(ns, Nb, xs);
   const V3<T> m0 = cross(t1, t2);
@@ -467,7 +495,8 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
           if (affine) continue;  // only the slip's points (the integrals came from the moments)
           return false;
         }
-        T M[kMaxFacetNodes], Ma[kMaxFacetNodes], Mb[kMaxFacetNodes];
+        std::array<T, kMaxFacetNodes> Mv = scratch_shape<T>(), Mav = scratch_shape<T>(), Mbv = scratch_shape<T>();
+        T *M = Mv.data(), *Ma = Mav.data(), *Mb = Mbv.data();
         shape(nm, eta.a, eta.b, M, Ma, Mb);
         T jac;
         if (flat) {
