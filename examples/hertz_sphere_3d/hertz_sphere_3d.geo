@@ -1,8 +1,7 @@
-// Hertz contact of a sphere on a block in 3D, quarter model (x >= 0, y >= 0), tetrahedra
-// (order 1: tet4, 2: tet10).
+// Hertz contact of a sphere on a block in 3D, quarter model (x >= 0, y >= 0), tetrahedra.
 // Sphere of radius R centred at (0, 0, R), its lower half; block [0, W]^2 x [-H, 0].
 SetFactory("OpenCASCADE");
-DefineConstant[ R = 1, W = 1.5, H = 1.5, hc = 0.02, hf = 0.3, zone = 0.15, order = 1 ];
+DefineConstant[ R = 1, W = 1.5, H = 1.5, hc = 0.02, hf = 0.3, zone = 0.15 ];
 Box(1) = {0, 0, -H, W, W, H};
 Sphere(2) = {0, 0, R, R};
 Box(3) = {0, 0, 0, R, R, R};
@@ -30,7 +29,6 @@ Background Field = 2;
 Mesh.MeshSizeExtendFromBoundary = 0;
 Mesh.MeshSizeFromPoints = 0;
 Mesh.MeshSizeFromCurvature = 0;
-Mesh.ElementOrder = order;  // 2: tet10, mid-side nodes on the sphere
 Physical Volume("Block") = {1};
 Physical Volume("Sphere") = {4};
 Physical Surface("BlockTop") = {blockTop()};
