@@ -596,11 +596,11 @@ class Mortar final : public DeformableMaster {
     // 3D: the candidates that overlap (clipped in plain numbers), for coupled_nodes.
     if (dim_ == 3 && !self_) {
       const Index ne = slave_facets_.size();
-      overlapping_.assign(ne, {});
+      coupled_masters_.assign(ne, {});
 #pragma omp parallel for schedule(dynamic, 8)
       for (Index e = 0; e < ne; ++e)
         if (!candidates_[e].empty())
-          overlapping_[e] = mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, false).masters;
+          set_coupled_masters(e, mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, false).masters);
     }
   }
 
@@ -612,18 +612,8 @@ class Mortar final : public DeformableMaster {
     // which overlap, and the candidates' couplings took the fine mesh's matrix from 19 to 26
     // million entries (5.8 GB to factorize). A master that starts to overlap during the
     // iterations puts its entries outside the pattern, which Analysis rebuilds then.
-    if (!(dim_ == 3 && !self_)) return facet_coupled_nodes(slave_facets_, candidates_, slave_.nodes[j], dim_ == 2, nodes);
-    // The overlapping masters and their neighbours among the candidates (a master that starts
-    // to overlap is most often next to one that does).
-    std::vector<std::vector<Index>> near(slave_facets_.size());
-    for (Index e : slave_facets_.node_facets[slave_.nodes[j]]) {
-      std::set<Index> s;
-      for (Index f : overlapping_[e])
-        for (Index g : master_.neighbourhood(f)) s.insert(g);
-      for (Index f : candidates_[e])
-        if (s.count(f)) near[e].push_back(f);
-    }
-    facet_coupled_nodes(slave_facets_, near, slave_.nodes[j], false, nodes);
+    const bool overlaps = dim_ == 3 && !self_;
+    facet_coupled_nodes(slave_facets_, overlaps ? coupled_masters_ : candidates_, slave_.nodes[j], dim_ == 2, nodes);
   }
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
@@ -631,14 +621,15 @@ class Mortar final : public DeformableMaster {
     const Index ne = slave_facets_.size();
     std::vector<std::vector<MortarFacetResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
-    overlapping_.resize(ne);
+    const bool overlaps = dim_ == 3 && !self_;
+    if (overlaps) coupled_masters_.resize(ne);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
-      overlapping_[e].clear();
+      if (overlaps) coupled_masters_[e].clear();
       if (candidates_[e].empty()) continue;
       MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
                                       : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
-      overlapping_[e] = r.masters;
+      if (overlaps) set_coupled_masters(e, r.masters);
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));
@@ -777,9 +768,19 @@ class Mortar final : public DeformableMaster {
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may overlap
-  // Per slave facet, the master facets it overlapped at the last evaluation (3D: coupled_nodes);
-  // written by build (const: a cache of its result, one facet per thread).
-  mutable std::vector<std::vector<Index>> overlapping_;
+  // 3D, per slave facet: the candidates that overlapped it at the last evaluation and their
+  // neighbours (a master that starts to overlap is most often next to one that does), the
+  // masters coupled_nodes couples to; written by detect and build (const: a cache of its
+  // result, one facet per thread).
+  mutable std::vector<std::vector<Index>> coupled_masters_;
+  void set_coupled_masters(Index e, const std::vector<Index>& overlap) const {
+    std::set<Index> near;
+    for (Index f : overlap)
+      for (Index g : master_.neighbourhood(f)) near.insert(g);
+    coupled_masters_[e].clear();
+    for (Index f : candidates_[e])
+      if (near.count(f)) coupled_masters_[e].push_back(f);
+  }
   std::vector<std::vector<Index>> excluded_;     // self-contact, per facet: its two-ring (sorted)
   std::vector<Real> gap_scale_;                  // self-contact, per slave node: int N~_j dA0
   std::vector<int> color_;                       // self-contact, per facet: 0 slave, 1 master, -1 neither
