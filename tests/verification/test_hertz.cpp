@@ -27,7 +27,11 @@ void expect_hertz(const std::string& example, Real hc, Real p0_tol, Real a_tol) 
   std::printf("%s, hc = %g: p0 error %.3f %%, a error %.3f %%, %d Newton iterations, final order %.2f\n",
               example.c_str(), hc, 100 * r.checks[0].error, 100 * r.checks[1].error,
               r.summary.increments.back().iterations, order);
-  EXPECT_GT(order, 1.8) << "the semi-smooth Newton method should converge quadratically at the end";
+  const Real contraction = test::newton_contraction(res);
+  std::printf("  last step: %.2e -> %.2e, contraction r_n / r_(n-1)^2 = %.3g\n", res[res.size() - 2], res.back(),
+              contraction);
+  EXPECT_LT(res[res.size() - 2], 1e-5) << "the last step starts near the solution";
+  EXPECT_LT(contraction, 1e3) << "the semi-smooth Newton method should converge quadratically at the end";
 }
 }  // namespace
 
@@ -82,19 +86,16 @@ TEST(Hertz, SphereAxisymmetricMortar) {
 }
 
 // 3D dual mortar (tri3 on tri3, mortar_3d.cpp) on the quarter sphere (examples/hertz_sphere_3d)
-// at hc = 0.035, the force in 10 increments. In one increment the semi-smooth Newton method does
-// not converge: from the undeformed state one node holds the sphere, the first solve pushes it
-// 7 times the Hertz approach into the block, and the active set then cycles (docs/contact.md,
-// mortar in 3D). Measured: 29 Newton iterations, p0 +2.2 %, a -10.9 % (the node-based
-// half-width on this coarse mesh; segment_to_segment on the same increments: p0 +0.5 %, a
-// -10.9 %, 29 iterations).
+// at hc = 0.035, the whole force in one increment from the touching point. Before the Newton
+// step's penetration limit (docs/contact.md) this needed 10 increments: the first solve, held
+// by one node, pushed the sphere 7 times the Hertz approach into the block and the active set
+// then cycled. Measured with the limit: 7 iterations, p0 +1.9 %, a -10.9 % (the node-based
+// half-width on this coarse mesh).
 TEST(Hertz, Sphere3DMortar) {
   std::string deck = test::example_deck_text("hertz_sphere_3d");
-  for (auto [at, add] : {std::pair<std::string, std::string>{"    slave: SphereSurface\n", "    discretization: mortar\n"},
-                         {"  - name: press\n", "    increments: {initial: 0.1, max: 0.1}\n"}}) {
-    ASSERT_NE(deck.find(at), std::string::npos) << at;
-    deck.replace(deck.find(at), at.size(), at + add);
-  }
+  const std::string at = "    slave: SphereSurface\n";
+  ASSERT_NE(deck.find(at), std::string::npos) << at;
+  deck.replace(deck.find(at), at.size(), at + "    discretization: mortar\n");
   ASSERT_NE(deck.find("hc: 0.02"), std::string::npos);
   deck.replace(deck.find("hc: 0.02"), 8, "hc: 0.035");
   test::HertzRun r = test::run_deck_text(deck, "mortar3d");
@@ -105,8 +106,8 @@ TEST(Hertz, Sphere3DMortar) {
   EXPECT_LT(r.checks[0].error, 0.05) << "p0 " << r.checks[0].computed;
   EXPECT_LT(r.checks[1].error, 0.15) << "a " << r.checks[1].computed;
   EXPECT_LT(r.checks[2].error, 1e-4) << "force balance";
-  EXPECT_EQ(r.summary.increments.size(), 10u) << "no cutback";
-  EXPECT_LE(r.summary.total_iterations, 40);
+  EXPECT_EQ(r.summary.increments.size(), 1u) << "no cutback";
+  EXPECT_LE(r.summary.total_iterations, 10);
 }
 
 TEST(Hertz, EveryEnforcementMethodAgrees) {

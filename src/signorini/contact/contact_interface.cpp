@@ -293,6 +293,29 @@ void ContactInterface::count_status_changes() {
   }
 }
 
+std::vector<Real> ContactInterface::penetrations() const {
+  std::vector<Real> p(constraints_.size(), 0.0);
+  for (size_t j = 0; j < constraints_.size(); ++j) {
+    if (j < state_.active.size() && state_.active[j]) p[j] = std::numeric_limits<Real>::quiet_NaN();  // closed
+    else if (constraints_[j].kind != ConstraintKind::none) p[j] = std::max(Real(0), -constraints_[j].gap);
+  }
+  return p;
+}
+
+std::pair<Real, Index> ContactInterface::penetration_growth(const std::vector<Real>& before) const {
+  Real worst = 0;
+  Index node = -1;
+  for (size_t j = 0; j < constraints_.size() && j < before.size() && j < nodes_.size(); ++j) {
+    if (std::isnan(before[j]) || constraints_[j].kind == ConstraintKind::none || !(nodes_[j].size > 0)) continue;
+    const Real growth = (std::max(Real(0), -constraints_[j].gap) - before[j]) / nodes_[j].size;
+    if (growth > worst) {
+      worst = growth;
+      node = (*node_ids_)[slave_.nodes[j]];
+    }
+  }
+  return {worst, node};
+}
+
 Index ContactInterface::fix_held_nodes() {
   // A node held closed that ends in tension is released (held open instead), once; a node
   // held open that penetrates beyond the tolerance cannot be fixed here.

@@ -100,6 +100,13 @@ class ContactInterface {
   bool augment(const std::vector<Vec3>& x, const VecX& z, Real& max_penetration);
   // Augmented Lagrangian: Uzawa updates allowed per increment.
   int max_augmentations() const { return augmented() ? s_.max_uzawa : 0; }
+  // Each open slave node's penetration max(0, -gap) at the last assembly (0 where no master
+  // is within reach, NaN for a closed node): the state a Newton step starts from, for
+  // penetration_growth.
+  std::vector<Real> penetrations() const;
+  // The largest growth of an open slave node's penetration since `before` (penetrations() at
+  // the step's start), in units of the node's facet size h, and the mesh id of that node.
+  std::pair<Real, Index> penetration_growth(const std::vector<Real>& before) const;
   // After an accepted Newton iterate: count status changes (chattering guard).
   void count_status_changes();
   // At the last accepted iterate: closed slave nodes, and how many closed and opened in it.

@@ -94,6 +94,9 @@ struct NewtonSettings {
   Real absolute_tolerance = 0;        // in force units; 0: only the relative test
   Real energy_tolerance = 1e-16;      // |du . R| relative to the first iteration's
   bool line_search = true;
+  // Contact: the largest growth of an open slave node's penetration in one Newton step, in
+  // facet sizes (Lagrange multipliers and Nitsche; 0: no limit). Analysis::line_search.
+  Real penetration_step = 0.5;
   bool predictor = true;              // extrapolate the last increment's displacement
   bool condense_contact = true;       // eliminate contact multipliers from the linear solve
   Real cutback_factor = 0.5;

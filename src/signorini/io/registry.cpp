@@ -403,6 +403,10 @@ void register_deck_sections(Registry& r) {
           text("line_search", "backtracking line search on the residual norm (with contact multipliers: only steps that "
                               "keep every contact status, and only for bodies with material history)",
                "true", ParamKind::boolean),
+          number("penetration_step",
+                 "contact with Lagrange multipliers or Nitsche: a Newton step that would push an open slave node "
+                 "deeper than this many of its facet sizes into its master is shortened to about that (0: no limit)",
+                 "0.5", 0),
           text("condense_contact",
                "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
                "one DOF of its slave node; rows that couple several slave nodes, segment_to_segment and mortar, "

@@ -734,6 +734,12 @@ void Analysis::limit_turn(VecX& du) const {
   du *= kMaxTurn / turn;
 }
 
+std::vector<std::vector<Real>> Analysis::contact_penetrations() const {
+  std::vector<std::vector<Real>> p;
+  for (const auto& c : contacts_) p.push_back(c->penetrations());
+  return p;
+}
+
 std::vector<char> Analysis::contact_statuses() const {
   std::vector<char> s;
   for (const auto& c : contacts_) {
@@ -745,7 +751,8 @@ std::vector<char> Analysis::contact_statuses() const {
 }
 
 Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm,
-                           VecX& Rtrial, Real& new_scale, Real& new_norm, const std::vector<char>* statuses) {
+                           VecX& Rtrial, Real& new_scale, Real& new_norm, const std::vector<char>* statuses,
+                           const std::vector<std::vector<Real>>* penetrations) {
   // Backtracking on the residual norm (full steps when the line search is off). With
   // `statuses` (contact multipliers, whose semi-smooth Newton method takes full steps: the
   // statuses at u0), only while the full step keeps every contact status: the residual is then
@@ -755,6 +762,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
   // shortened.
   Real alpha = 1;
   bool search = ns.line_search;
+  int limits = 0;
   for (int ls = 0;; ++ls) {
     u_ = u0 + alpha * du;
     bool ok = true;
@@ -766,6 +774,39 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
       ok = false;  // e.g. an element turned inside out: shorten the step
     }
     if (statuses && ls == 0) search = !ok || contact_statuses() == *statuses;
+    // Penetration limit (`penetration_step`, kappa facet sizes; Lagrange multipliers and
+    // Nitsche, whose steps are otherwise full): the linearization of an open slave node carries
+    // no contact force, so a step that drives it far through its master leaves the region
+    // where the step means anything. A body held only by contact (a force-controlled sphere
+    // from its touching point) has almost no stiffness in the first tangent, and its full step
+    // pushed it several facet sizes into the other body; from such a state the active set
+    // cycled (3D mortar: 25 iterations and a cutback on the quarter sphere at hc = 0.02; with
+    // the limit, 6 iterations). The step is scaled by about kappa / growth (the penetration
+    // of an open node grows roughly linearly along the step), at most four times. Closed nodes
+    // are left out (their step is the linearized constraint's), and so are penalty and the
+    // augmented Lagrangian, whose line search is on and whose penetration is part of the
+    // solution (measured: the limit made the penalty drag over a smoothed mound cut back).
+    if (ok && penetrations && ns.penetration_step > 0 && limits < 4) {
+      Real growth = 0;
+      Index node = -1;
+      for (size_t i = 0; i < contacts_.size() && i < penetrations->size(); ++i) {
+        if (!contacts_[i]->full_newton_steps()) continue;
+        const auto [g, n] = contacts_[i]->penetration_growth((*penetrations)[i]);
+        if (g > growth) growth = g, node = n;
+      }
+      if (growth > ns.penetration_step) {
+        ++limits;
+        const Real factor = std::clamp(0.9 * ns.penetration_step / growth, 0.05, 0.5);
+        log::info("      step {:.3g}: slave node {} would penetrate {:.3g} facet sizes deeper; step x {:.3g}", alpha, node,
+                  growth, factor);
+        alpha *= factor;
+        continue;
+      }
+    }
+    if (!ok && limits > 0 && ls < 6) {  // a limited step that cannot be evaluated: shorter still
+      alpha *= 0.5;
+      continue;
+    }
     if (ok && (!search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
     if (!search || ls >= 6) {
       if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
@@ -900,6 +941,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       const Real energy = std::abs(du.dot(R));
       const VecX u0 = u_;
       const std::vector<char> statuses = within_active_set ? contact_statuses() : std::vector<char>();
+      const std::vector<std::vector<Real>> pen0 = contact_penetrations();
       std::map<Index, std::string> view_before;
       if (check_tangent_ && ptc_shift_ == 0) {  // (a shifted matrix is not the tangent)
         view_before = contact_view();
@@ -927,7 +969,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         }
       } else {
         alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm,
-                            within_active_set ? &statuses : nullptr);
+                            within_active_set ? &statuses : nullptr, &pen0);
       }
       if (check_tangent_) {
         const auto view_after = contact_view();

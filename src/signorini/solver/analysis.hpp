@@ -180,7 +180,10 @@ class Analysis {
   void limit_turn(VecX& du) const;
   // u = u0 + alpha du with backtracking on |R|; returns alpha (Rtrial: the residual there).
   Real line_search(Real lambda, const NewtonSettings& ns, const VecX& u0, const VecX& du, Real rnorm, VecX& Rtrial,
-                   Real& new_scale, Real& new_norm, const std::vector<char>* statuses = nullptr);
+                   Real& new_scale, Real& new_norm, const std::vector<char>* statuses = nullptr,
+                   const std::vector<std::vector<Real>>* penetrations = nullptr);
+  // Every contact pair's slave penetrations at the last evaluation (the step's start).
+  std::vector<std::vector<Real>> contact_penetrations() const;
   // Every contact pair's statuses (closed, and stick/slip), concatenated.
   std::vector<char> contact_statuses() const;
   // Once the residual has converged: the chattering guard's checks and release, the
