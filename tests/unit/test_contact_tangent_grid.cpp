@@ -311,11 +311,36 @@ TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
     }
 }
 
+// The 3D table but mortar and Nitsche. segment_to_segment on quadratic slave facets (tri6,
+// quad8, quad9) costs 1.5-3 s a row, 106 s for its 45 frictionless rows alone: by default its
+// frictionless rows run with Lagrange multipliers only and its Tresca rows not at all (the
+// methods differ from one another in the normal law, and Tresca from Coulomb in the friction
+// law, which the linear slaves' rows check with every method; the quadratic slaves' kinematics
+// is in every Lagrange row and every Coulomb row). With SIGNORINI_GRID_ALL=1 (the ctest
+// long.TangentGrid.Every3DCombinationWithEveryRow, label long) every row.
 TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {
   OneThread one;
+  const bool all = std::getenv("SIGNORINI_GRID_ALL") != nullptr;
+  auto quadratic = [](ElementType t) {
+    return t == ElementType::tri6 || t == ElementType::quad8 || t == ElementType::quad9;
+  };
+  int rows = 0, left_out = 0;
   for (const ContactCombination& c : supported_contact_combinations())
-    if (c.dimension == Dimension::three_d && c.method != "nitsche" && c.discretization != "mortar" && selected(c))
+    if (c.dimension == Dimension::three_d && c.method != "nitsche" && c.discretization != "mortar" && selected(c)) {
+      if (!all && c.discretization == "segment_to_segment" && quadratic(c.slave_facet) &&
+          (c.friction == "tresca" || (c.friction == "none" && c.method != "lagrange"))) {
+        ++left_out;
+        continue;
+      }
       check_combination(c);
+      ++rows;
+    }
+  std::printf("%d 3D rows checked, %d left to the long suite\n", rows, left_out);
+  if (!std::getenv("SIGNORINI_GRID_FILTER")) {
+    EXPECT_EQ(rows + left_out, 471) << "the 3D table (but mortar and Nitsche) changed: update the counts";
+    EXPECT_EQ(left_out, all ? 0 : 48) << "segment_to_segment, quadratic slaves: 30 frictionless rows of penalty and the "
+                                         "augmented Lagrangian, 18 Tresca rows";
+  }
 }
 
 // 3D mortar's combinations on their own (its weighted gaps' derivatives are hyper-dual numbers
