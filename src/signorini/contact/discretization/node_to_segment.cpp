@@ -46,8 +46,17 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
       FacetProjection fp = project_on_facet(basis, xf, p, dim, kEdgeTolerance);
       if (!fp.inside) continue;
       const bool strict = inside_reference(basis, fp.xi, 1e-9);
-      if ((strict && !best_strict) || (strict == best_strict && std::abs(fp.gap) < best_dist)) {
-        best_dist = std::abs(fp.gap);
+      // Gaps equal to 1e-10 of the facet's edge are a tie, broken by the lower facet index: a
+      // slave node over a master vertex or edge (the pole of a sphere over the corner of a
+      // symmetric block) has the same gap on every facet around it up to round-off, and
+      // round-off picked the facet, whose normal then set the force's direction: the choice
+      // flipped from one Newton iteration to the next and the residual stalled once at 2.7e-8
+      // (examples/hertz_sphere_3d at hc 0.035; in units x 1e-3 it did not).
+      const Real tie = 1e-10 * (xf[1] - xf[0]).norm();
+      const Real d = std::abs(fp.gap);
+      if ((strict && !best_strict) ||
+          (strict == best_strict && (d < best_dist - tie || (d <= best_dist + tie && f < best)))) {
+        best_dist = d;
         best = f;
         best_fp = fp;
         best_x = xf;
