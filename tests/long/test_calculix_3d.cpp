@@ -51,41 +51,8 @@ TEST(CalculixDeckLong, Hertz3dTet10SurfaceToSurfaceLagrangeFinishesInOneIncremen
               P, peak, p0, 100 * (peak / p0 - 1), inc.iterations, static_cast<int>(inc.stagnated), inc.stagnated_residual);
 }
 
-// CalculiX's fine tet4 Hertz mesh (the harness's hertz3d_fine_c3d4.inp, 16 530 DOFs),
-// node-to-segment, penalty (its default stiffness) and the augmented Lagrangian. Both used to
-// stall at 76-79 % of the load (stopped by hand after 8 min, 5 cutbacks, 300 iterations):
-// Newton's line search halved its steps to 1/64 in a period-5 cycle of the residual between
-// 2.9e-5 and 5e-5 of the force scale (slave nodes on master facet edges, where penalty's
-// force follows each facet's own normal), at every increment size. The cycle is now accepted
-// at the end of the iteration budget (stagnation within 1e-4 of the force scale, no progress
-// over ten iterations): one increment each (measured: 25 iterations, |R|/F 5.6e-7; 27 with one
-// Uzawa update). The load against Lagrange multipliers' on the same mesh (results/sbs.md,
-// sig_h3d_fine_c3d4_lagrange: 2424.9 N) within 0.5 %, the peak nodal pressure against Hertz's
-// p0 within 10 % (measured +6.2 %; node-to-segment on tet4 is noisy, +7.4 % with Lagrange
-// multipliers, CalculiX +7.9 % node-to-surface, +15 % surface-to-surface).
-TEST(CalculixDeckLong, Hertz3dTet4PenaltyAndAugmentedLagrangianFinishInOneIncrement) {
-  log::set_level(log::Level::warning);
-  for (const std::string method : {"penalty", "augmented_lagrangian"}) {
-    const signorini::test::Result r = signorini::test::run_yaml("h3d_tet4_" + method, "hertz3d_fine_c3d4.inp", true,
-                                                                "enforcement: {method: " + method + "}");
-    const AnalysisSummary& s = r.summary;
-    ASSERT_TRUE(s.completed) << method << ": " << s.failure;
-    ASSERT_EQ(s.increments.size(), 1u) << method;
-    const IncrementRecord& inc = s.increments[0];
-    EXPECT_EQ(inc.cutbacks, 0) << method;
-    if (inc.stagnated) {
-      EXPECT_LE(inc.stagnated_residual, 1e-4) << method;
-    }
-    const Real P = 4 * r.reaction;
-    EXPECT_NEAR(P, 2424.9, 5e-3 * 2424.9) << method;
-    const Real peak = signorini::test::peak_pressure(r);
-    const Real p0 = signorini::test::hertz_p0(P, true);
-    EXPECT_NEAR(peak, p0, 0.10 * p0) << method;
-    std::printf("tet4 %s: P %.6g, peak %.6g against Hertz p0 %.6g (%+.2f %%), %d iterations, stagnated %d (|R|/F %.3e)\n",
-                method.c_str(), P, peak, p0, 100 * (peak / p0 - 1), inc.iterations, static_cast<int>(inc.stagnated),
-                inc.stagnated_residual);
-  }
-}
+// CalculiX's fine tet4 mesh with penalty and the augmented Lagrangian: in the default suite
+// (tests/verification/test_calculix.cpp, CalculixDeck.EveryMethodInOneIncrementOnTheQuad4AndTet4Meshes).
 
 // Nitsche's method (symmetric, gamma0 auto) on the same points: one increment without a
 // cutback, the load within 0.2 % of CalculiX's, the peak nodal pressure within 2 % of Hertz's

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "calculix_runner.hpp"
+#include "hertz_runner.hpp"
 
 using namespace signorini;
 using signorini::test::compare;
@@ -117,4 +118,45 @@ TEST(CalculixDeck, Hertz2dNitscheIsUnitInvariant) {
   ASSERT_EQ(si.pressure.size(), mm.pressure.size());
   for (const auto& [node, p] : mm.pressure)
     EXPECT_NEAR(si.pressure.at(node), 1e6 * p, 1e-8 * 1e6 * test::peak_pressure(mm)) << "node " << node;
+}
+
+// Every enforcement with node_to_segment on CalculiX's Hertz meshes, displacement-controlled
+// from zero in one increment: the 2D coarse quad4 mesh and the fine tet4 one (16 530 DOFs). On
+// the tet4 mesh penalty and the augmented Lagrangian took 25 and 27 iterations, accepted as
+// stagnated at |R|/F 5.6e-7: a slave node's facet choice flipped between a facet it lay over
+// and a neighbour's 1 % extension (node_to_segment.cpp). Checked: one increment, no cutback, no
+// stagnation, the last step quadratic (newton_contraction, hertz_runner.hpp), the load within
+// 0.5 % of Lagrange multipliers' and the peak nodal pressure within 1 % (2D, a/h = 16) or 10 %
+// (tet4: node-to-segment's nodal pressures follow the irregular tributary areas, +7.4 % with
+// multipliers; CalculiX node-to-surface +7.9 %) of Hertz's p0 for that load. Iterations
+// (measured: lagrange 6 and 5, penalty 11 and 9, augmented_lagrangian 13 and 11): issue 13's
+// target is 10 for every method; the guards are 10, 12 and 14 (the penalty systems miss it by
+// up to 3: docs/contact.md, Enforcement).
+TEST(CalculixDeck, EveryMethodInOneIncrementOnTheQuad4AndTet4Meshes) {
+  log::set_level(log::Level::warning);
+  for (const bool three_d : {false, true}) {
+    const std::string mesh = three_d ? "hertz3d_fine_c3d4.inp" : "hertz2d_coarse_cpe4.inp";
+    Real lagrange_load = 0;
+    for (const std::string method : {"lagrange", "penalty", "augmented_lagrangian"}) {
+      const std::string what = mesh + " " + method;
+      const test::Result r = test::run_yaml(method, mesh, three_d, "enforcement: {method: " + method + "}");
+      ASSERT_TRUE(r.completed) << what << ": " << r.summary.failure;
+      ASSERT_EQ(r.summary.increments.size(), 1u) << what;
+      const IncrementRecord& inc = r.summary.increments[0];
+      EXPECT_EQ(inc.cutbacks, 0) << what;
+      EXPECT_FALSE(inc.stagnated) << what;
+      const int guard = method == "lagrange" ? 10 : method == "penalty" ? 12 : 14;
+      EXPECT_LE(inc.iterations, guard) << what;
+      const std::vector<Real>& res = inc.residuals;
+      ASSERT_GE(res.size(), 2u) << what;
+      EXPECT_LT(test::newton_contraction(res), 1e3) << what << ": last residuals " << res[res.size() - 2] << ", " << res.back();
+      const Real P = (three_d ? 4 : 2) * r.reaction;
+      if (method == "lagrange") lagrange_load = P;
+      EXPECT_NEAR(P, lagrange_load, 5e-3 * lagrange_load) << what;
+      const Real p0 = test::hertz_p0(P, three_d);
+      EXPECT_NEAR(test::peak_pressure(r), p0, (three_d ? 0.10 : 0.01) * p0) << what;
+      std::printf("%s: %d iterations, last residuals %.2e %.2e, P %.6g, peak %+.2f %% of Hertz p0\n", what.c_str(),
+                  inc.iterations, res[res.size() - 2], res.back(), P, 100 * (test::peak_pressure(r) / p0 - 1));
+    }
+  }
 }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "signorini/contact/geometry/facet_projection.hpp"
 
 #include <Eigen/LU>
@@ -179,6 +180,14 @@ bool inside_reference(const FacetBasis& facet, const Vec3& xi, Real tol) {
   for (int d = 0; d < e.dim; ++d)
     if (std::abs(xi(d)) > 1 + tol) return false;
   return true;
+}
+
+Real outside_reference(const FacetBasis& facet, const Vec3& xi) {
+  const ElementInfo& e = element_info(facet.type);
+  if (e.family == ShapeFamily::simplex) return std::max({Real(0), -xi(0), -xi(1), xi(0) + xi(1) - 1});
+  Real out = 0;
+  for (int d = 0; d < e.dim; ++d) out = std::max(out, std::abs(xi(d)) - 1);
+  return out;
 }
 
 Vec3 facet_normal(const FacetBasis& facet, const std::vector<Vec3>& x, const Vec3& xi, int dim) {

@@ -95,6 +95,10 @@ FacetProjection project_on_facet(const FacetBasis& facet, const std::vector<Vec3
 // Whether xi lies in the facet's reference domain, up to tol.
 bool inside_reference(const FacetBasis& facet, const Vec3& xi, Real tol);
 
+// How far xi lies outside the facet's reference domain, in reference parameters (0 inside):
+// the largest violated bound.
+Real outside_reference(const FacetBasis& facet, const Vec3& xi);
+
 // Gradient and Hessian of the gap with respect to the DOFs [x_slave, x_1, ..., x_N]
 // (dim components per node) at a converged projection; `dxi` (optional) gets the gradient of
 // each facet parameter (one column per parameter).
