@@ -29,13 +29,15 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
                                   [&](Index f) { return std::binary_search(ex.begin(), ex.end(), f); }),
                    around.end());
     }
-    // The facet closest to the node, measured as the distance to the facet itself: the gap on
-    // the facet's plane combined with how far the projection lies beyond the facet's edge
-    // (projections up to 1 % of the facet beyond its edge are accepted, on the facet's
+    // The facet closest to the node, measured as about the distance to the facet itself: the
+    // gap on the facet's plane combined with how far the projection lies beyond the facet's
+    // edge (its excess in reference parameters times the longer covariant base vector;
+    // projections up to 1 % of the facet beyond its edge are accepted, on the facet's
     // extended surface: a slave node on a symmetry plane projects orthogonally onto a tilted
     // boundary facet of a deforming master slightly outside it, and the vertex fallback there
-    // would switch its gap to another function and stall Newton). The distance is continuous
-    // as the node moves, so the choice switches facet where both are about as close: with a
+    // would switch its gap to another function and stall Newton). The measure is continuous
+    // as the node moves, so the choice switches facet where both are about as close (the
+    // planes' gaps still differ there: docs/contact.md, Limits). With a
     // rule "inside first, then the smallest |gap|", a penetrated node near a master vertex on
     // a symmetry plane jumped between a facet it lay over and a neighbour's extension whose
     // plane was 3 % nearer, every few Newton iterations (penalty on CalculiX's tet4 Hertz mesh:

@@ -1,7 +1,7 @@
-#include <algorithm>
 #include "signorini/contact/geometry/facet_projection.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
 
