@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "deck_text.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/io/results_writer.hpp"

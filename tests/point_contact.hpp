@@ -13,12 +13,6 @@
 
 namespace signorini::test {
 
-inline void replace(std::string& text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  ASSERT_NE(at, std::string::npos) << from;
-  text.replace(at, from.size(), to);
-}
-
 struct SphereCase {
   std::string pair;    // deck lines after the pair's slave, e.g. "    discretization: mortar\n"
   Real load = 1;       // times the example's force (F = 1e4 on the whole sphere)
@@ -39,12 +33,12 @@ struct SphereResult {
 inline SphereResult run_sphere(const SphereCase& c) {
   std::string deck = test::example_deck_text("hertz_sphere_3d");
   const Real L = c.length;
-  replace(deck, "parameters: {hc: 0.02}",
+  replace_in_text(deck, "parameters: {hc: 0.02}",
           fmt::format("parameters: {{hc: {}}}, scale: {:.17g}{}", c.hc, L,
                       c.order > 0 ? fmt::format(", order: {}", c.order) : std::string()));
-  replace(deck, "E: 1.40625e7", fmt::format("E: {:.17g}", 1.40625e7 * c.stress));
-  replace(deck, "force: [0, 0, -2500]", fmt::format("force: [0, 0, {:.17g}]", -2500 * c.load));
-  replace(deck, "    slave: SphereSurface\n", "    slave: SphereSurface\n" + c.pair);
+  replace_in_text(deck, "E: 1.40625e7", fmt::format("E: {:.17g}", 1.40625e7 * c.stress));
+  replace_in_text(deck, "force: [0, 0, -2500]", fmt::format("force: [0, 0, {:.17g}]", -2500 * c.load));
+  replace_in_text(deck, "    slave: SphereSurface\n", "    slave: SphereSurface\n" + c.pair);
   SphereResult out;
   out.run = run_deck_text(deck, "point_contact");
   if (out.run.checks.size() == 3) {

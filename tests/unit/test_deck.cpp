@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "deck_text.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
@@ -48,9 +49,7 @@ std::string write_deck(const std::string& name, const std::string& text) {
 }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {
-  size_t p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
+  test::replace_in_text(s, from, to);
   return s;
 }
 

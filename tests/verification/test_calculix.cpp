@@ -96,11 +96,7 @@ TEST(CalculixDeck, Hertz2dNitscheIsUnitInvariant) {
   }
   std::string deck = test::yaml_route("hertz2d_coarse_cpe4.inp", false,
                                       "discretization: segment_to_segment, enforcement: {method: nitsche}");
-  auto replace = [&](const std::string& a, const std::string& b) {
-    const size_t at = deck.find(a);
-    ASSERT_NE(at, std::string::npos) << a;
-    deck.replace(at, a.size(), b);
-  };
+  auto replace = [&](const std::string& a, const std::string& b) { test::replace_in_text(deck, a, b); };
   replace((test::kData / "meshes" / "hertz2d_coarse_cpe4.inp").string(), mesh_si.string());
   replace("E: 200000", "E: 2e11");
   replace("uy: -0.0662", "uy: -0.0662e-3");

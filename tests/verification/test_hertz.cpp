@@ -220,11 +220,7 @@ TEST(Hertz, RigidMeshedBlockMatchesTheAnalyticPlane) {
   std::string plane = ss.str();
   plane.insert(plane.find("file: ") + 6, (src.parent_path() / "").string());
   std::string block = plane;
-  auto replace = [&](const std::string& from, const std::string& to) {
-    const size_t p = block.find(from);
-    ASSERT_NE(p, std::string::npos) << from;
-    block.replace(p, from.size(), to);
-  };
+  auto replace = [&](const std::string& from, const std::string& to) { test::replace_in_text(block, from, to); };
   replace("master: {rigid: plane, point: [0, 0], normal: [0, 1]}", "master: BlockTop");
   replace("  - {name: cylinder, region: Cylinder, material: steel}\n",
           "  - {name: cylinder, region: Cylinder, material: steel}\n"

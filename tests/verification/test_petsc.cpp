@@ -21,11 +21,7 @@ namespace {
 std::string example_deck(const std::string& example, const std::string& extra,
                          const std::vector<std::pair<std::string, std::string>>& replace = {}) {
   std::string deck = test::example_deck_text(example);
-  for (const auto& [from, to] : replace) {
-    const size_t p = deck.find(from);
-    EXPECT_NE(p, std::string::npos) << example << ": " << from;
-    if (p != std::string::npos) deck.replace(p, from.size(), to);
-  }
+  for (const auto& [from, to] : replace) test::replace_in_text(deck, from, to);
   return deck + extra;
 }
 

@@ -23,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include "deck_text.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/material/j2_plasticity.hpp"
@@ -245,11 +246,7 @@ std::vector<BarPoint> run_bar(const std::string& material_extra, bool hold, Anal
   const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "viscoplastic_bar";
   std::ifstream in(dir / "viscoplastic_bar.yaml");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto replace = [&](const std::string& a, const std::string& b) {
-    const size_t at = text.find(a);
-    ASSERT_NE(at, std::string::npos) << a;
-    text.replace(at, a.size(), b);
-  };
+  auto replace = [&](const std::string& a, const std::string& b) { test::replace_in_text(text, a, b); };
   replace("viscosity: 5000", material_extra);
   replace("increments: {initial: 0.01, max: 0.01}", "increments: {initial: 0.002, max: 0.002}");
   replace("../neo_hookean_bar/", (dir / ".." / "neo_hookean_bar").string() + "/");
