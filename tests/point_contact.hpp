@@ -34,8 +34,8 @@ inline SphereResult run_sphere(const SphereCase& c) {
   std::string deck = test::example_deck_text("hertz_sphere_3d");
   const Real L = c.length;
   replace_in_text(deck, "parameters: {hc: 0.02}",
-          fmt::format("parameters: {{hc: {}}}, scale: {:.17g}{}", c.hc, L,
-                      c.order > 0 ? fmt::format(", order: {}", c.order) : std::string()));
+                  fmt::format("parameters: {{hc: {}}}, scale: {:.17g}{}", c.hc, L,
+                              c.order > 0 ? fmt::format(", order: {}", c.order) : std::string()));
   replace_in_text(deck, "E: 1.40625e7", fmt::format("E: {:.17g}", 1.40625e7 * c.stress));
   replace_in_text(deck, "force: [0, 0, -2500]", fmt::format("force: [0, 0, {:.17g}]", -2500 * c.load));
   replace_in_text(deck, "    slave: SphereSurface\n", "    slave: SphereSurface\n" + c.pair);
