@@ -1,14 +1,23 @@
 """Runs a shipped example with a PETSc linear solver on 1 and on N MPI ranks and checks that
 the two runs agree (issue 15): both complete, summary.json says how many ranks solved, and
 every reference check of the deck gives the same computed value to `tolerance` (relative).
-Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR"""
+The last increment's ParaView fields (displacements, reactions, stresses, and the
+quadrature-point history of plastic bodies, which with partitioned assembly each rank updates
+for its own cells only) must agree too, to `tolerance` relative to each field's largest value.
+With ALGEBRA ("partitioned" or "replicated"), summary.json must say that the N ranks shared the
+algebra that way.
+Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA]"""
+import glob
 import json
 import os
+import re
 import shutil
+import struct
 import subprocess
 import sys
 
 signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
+expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
 ranks, tolerance = int(ranks), float(tolerance)
 os.makedirs(work, exist_ok=True)
 with open(deck) as f:
@@ -45,6 +54,36 @@ many, log = run(ranks)
 assert one["status"] == "completed" and many["status"] == "completed", (one["status"], many["status"])
 assert one["mpi_ranks"] == 1 and many["mpi_ranks"] == ranks, (one["mpi_ranks"], many["mpi_ranks"])
 assert log.count("Solved") == 1, "rank 0 alone should print the summary:\n" + log
+if expected_algebra:
+    assert many["algebra"].startswith(expected_algebra), many["algebra"]
+
+
+def fields(folder):
+    """The Float64 point and cell arrays of the folder's last .vtu (raw appended data, UInt64 headers)."""
+    path = sorted(glob.glob(os.path.join(folder, "*.vtu")))[-1]
+    with open(path, "rb") as f:
+        data = f.read()
+    start = data.index(b'<AppendedData encoding="raw">')
+    head, blob = data[:start].decode(), data[data.index(b"_", start) + 1:]
+    out = {}
+    for m in re.finditer(r'<DataArray type="Float64" Name="([^"]+)"[^>]*offset="(\d+)"', head):
+        name, offset = m.group(1), int(m.group(2))
+        if name == "Points":
+            continue
+        size = struct.unpack_from("<Q", blob, offset)[0]
+        out[name] = struct.unpack_from("<%dd" % (size // 8), blob, offset + 8)
+    return out
+
+
+f1, f2 = fields(os.path.join(work, "np1")), fields(os.path.join(work, "np%d" % ranks))
+assert sorted(f1) == sorted(f2), (sorted(f1), sorted(f2))
+worst_field = 0.0
+for name in f1:
+    scale = max(max((abs(v) for v in f1[name]), default=0.0), 1e-300)
+    err = max((abs(a - b) for a, b in zip(f1[name], f2[name])), default=0.0) / scale
+    assert len(f1[name]) == len(f2[name]) and err <= tolerance, "field %s: %.2e apart" % (name, err)
+    worst_field = max(worst_field, err)
+print("%d fields of the last increment agree to %.1e" % (len(f1), worst_field))
 worst = 0.0
 for a, b in zip(one["checks"], many["checks"]):
     assert a["name"] == b["name"]
@@ -54,5 +93,5 @@ for a, b in zip(one["checks"], many["checks"]):
     assert b["pass"], b["name"]
 krylov = [k for inc in many["increments"] for k in inc.get("krylov_iterations", [])]
 print("%s with %s: 1 and %d ranks agree to %.1e (%d Newton iterations on 1 rank, %d on %d; Krylov per Newton "
-      "iteration on %d ranks: %s)" % (os.path.basename(deck), linear, ranks, worst, one["total_iterations"],
-                                       many["total_iterations"], ranks, ranks, krylov[:8]))
+      "iteration on %d ranks: %s; algebra: %s)" % (os.path.basename(deck), linear, ranks, worst, one["total_iterations"],
+                                                   many["total_iterations"], ranks, ranks, krylov[:8], many["algebra"]))

@@ -104,8 +104,8 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
       log::info("restart file {} written", path);
     });
   fmt::print("  unknowns   {} DOFs, {} threads{}\n", analysis.dofs().num_dofs(), omp_get_max_threads(),
-             ranks > 1 ? fmt::format(" per rank, {} MPI ranks (the linear solves distributed by PETSc)", ranks)
-                       : std::string());
+             ranks > 1 ? fmt::format(" per rank, {} MPI ranks", ranks) : std::string());
+  if (ranks > 1) fmt::print("  algebra    {}\n", analysis.algebra());
   std::fflush(stdout);
   writer.write_initial(analysis);
   install_interrupt_handlers();
@@ -150,6 +150,19 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
 }
 
 }  // namespace
+
+// An error under mpirun: the ranks run the same code, but one rank alone may fail (rank 0
+// writes the output): the others would wait for it forever, so every rank is stopped.
+int stop_all_ranks(int ranks, int code) {
+#ifdef SIGNORINI_HAVE_PETSC
+  if (ranks > 1) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    abort_all_ranks(code);
+  }
+#endif
+  return code;
+}
 
 int main(int argc, char** argv) {
   CLI::App app{"Signorini: finite element solver for contact mechanics"};
@@ -241,12 +254,12 @@ int main(int argc, char** argv) {
     return run(deck, outdir, check_cmd->parsed(), restart, mpi.rank);
   } catch (const InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
-    return interrupt_signal() ? 128 + interrupt_signal() : 1;
+    return stop_all_ranks(mpi.size, interrupt_signal() ? 128 + interrupt_signal() : 1);
   } catch (const SolverError& e) {
     fmt::print(stderr, "error: the analysis failed: {}\n", e.what());
-    return 2;
+    return stop_all_ranks(mpi.size, 2);
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());
-    return 1;
+    return stop_all_ranks(mpi.size, 1);
   }
 }

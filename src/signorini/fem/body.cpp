@@ -199,7 +199,7 @@ void gather(const ElementBlock& b, Index e, const std::vector<Vec3>& X, const Ve
 }  // namespace
 
 void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
-                    QuadratureHistory* history, Real dt) const {
+                    QuadratureHistory* history, Real dt, const std::vector<std::vector<char>>* owned) const {
   if (rigid()) return;  // no strain energy; its nodes move with the reference node
   const int hs = material_->history_size();
   if (hs && (!history || history->per_point() != hs))
@@ -225,6 +225,7 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
 #pragma omp for schedule(static)
         for (Index k = coloring.begin(color); k < coloring.end(color); ++k) {
           const Index e = coloring.items[k];
+          if (owned && !(*owned)[bi][e]) continue;
           try {
             gather(b, e, X, u, dofs, Xe, ue, edofs);
             element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? history->trial(bi, e) : nullptr, fe,

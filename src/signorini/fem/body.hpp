@@ -63,8 +63,10 @@ class Body {
   // tangent. Reads the committed history and writes the trial one of `history` (the body's,
   // owned by the analysis; may be null for a material without history); throws SolverError
   // on a non-physical state. dt: the increment's time (rate-dependent materials).
+  // `owned` (partitioned assembly over MPI ranks): per block, the cells to assemble (null: all).
   void assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs, VecX& fint, GlobalMatrix* matrix,
-                QuadratureHistory* history = nullptr, Real dt = 0) const;
+                QuadratureHistory* history = nullptr, Real dt = 0,
+                const std::vector<std::vector<char>>* owned = nullptr) const;
   // Adds the consistent nodal forces of a dead body force b (per unit reference volume),
   // uniform or a function of the reference position.
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,

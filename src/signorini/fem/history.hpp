@@ -4,6 +4,7 @@
 // Owned by the analysis (one per body), initialised by the material (a multiplicative plastic
 // F_p starts at I, not at 0), with the material's names for output.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,14 @@ class QuadratureHistory {
   void commit() { committed_ = trial_; }  // the increment converged
   void revert() { trial_ = committed_; }  // the increment is cut back, or starts
   const std::vector<Real>& committed_values() const { return committed_; }
+  // Partitioned assembly: the trial values of the cells that this rank did not assemble set
+  // to zero (owned[block][element]), so that a sum over the ranks gives every cell its owner's.
+  void keep_cells(const std::vector<std::vector<char>>& owned) {
+    for (size_t b = 0; b < owned.size() && b < per_element_.size(); ++b)
+      for (Index e = 0; e < static_cast<Index>(owned[b].size()); ++e)
+        if (!owned[b][e]) std::fill_n(trial_.begin() + offset(b, e), per_element_[b], 0.0);
+  }
+  std::vector<Real>& trial_values() { return trial_; }
   // A restart: the committed (and trial) state read back; the size must match.
   void restore(const std::vector<Real>& committed) {
     committed_ = trial_ = committed;

@@ -14,6 +14,9 @@
 #include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/io/atomic_file.hpp"
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 
 namespace signorini {
 
@@ -198,8 +201,36 @@ Analysis::Analysis(Model& model)
   for (auto& c : contacts_)
     for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
   has_multipliers_ = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
+  choose_algebra();
   if (!contacts_.empty()) detect_contact(0);
   rebuild_pattern();
+}
+
+// Several MPI ranks with a PETSc solver: partitioned assembly (each rank its own cells, into
+// its rows of one distributed matrix) unless algebraic multigrid needs the contact
+// multipliers condensed, which takes the whole matrix on one process: then every rank
+// assembles the whole system and PETSc distributes the solve (replicated).
+void Analysis::choose_algebra() {
+  const int ranks = parallel_ranks();
+  const std::string& linear = model_.linear_solver.type;
+  if (ranks <= 1) return;
+  if (!is_petsc_solver(linear)) {
+    algebra_ = fmt::format("replicated on {} ranks (linear solver {} runs on each: only gamg, hypre, mumps and petsc "
+                           "are distributed)", ranks, linear);
+    return;
+  }
+  if (has_multipliers_ && is_amg_solver(linear)) {
+    algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact multipliers "
+                           "condensed, which takes the whole matrix; enforcement: penalty, or linear: mumps, "
+                           "assembles partitioned)", ranks, linear);
+    return;
+  }
+#ifdef SIGNORINI_HAVE_PETSC
+  backend_ = make_petsc_backend(model_.linear_solver);
+  backend_->set_coordinates(&model_.mesh.nodes);
+  algebra_ = fmt::format("partitioned over {} ranks (each assembles its own cells into its rows of one PETSc matrix)",
+                         ranks);
+#endif
 }
 
 std::vector<Vec3> Analysis::positions(const VecX& u) const {
@@ -255,6 +286,25 @@ void Analysis::rebuild_pattern() {
   if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
   backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
+  if (backend_->ranks() > 1 && owned_cells_.empty())
+    for (auto& b : model_.bodies) {
+      owned_cells_.emplace_back();
+      for (const ElementBlock& blk : b->blocks()) {
+        owned_cells_.back().emplace_back(static_cast<size_t>(blk.size()));
+        for (Index e = 0; e < blk.size(); ++e)
+          owned_cells_.back().back()[e] = backend_->cell_owner(&blk, e) == backend_->rank();
+      }
+    }
+  if (!owned_cells_.empty()) {
+    Index mine = 0, all = 0;
+    for (const auto& body : owned_cells_)
+      for (const auto& blk : body) {
+        mine += std::count(blk.begin(), blk.end(), 1);
+        all += static_cast<Index>(blk.size());
+      }
+    log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
+               backend_->owned_begin(), backend_->owned_end());
+  }
   if (backend_->wants_layout()) {
     // Where each unknown sits (algebraic multigrid's rigid-body modes).
     auto layout = std::make_shared<UnknownLayout>();
@@ -372,9 +422,23 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     fext.setZero();
     fc.setZero();
     if (tangent) backend_->zero();
-    for (size_t i = 0; i < model_.bodies.size(); ++i)
-      model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr, &history_[i],
-                                 dt_);
+    // Each rank its own cells (partitioned assembly; one rank: all of them). A failure on one
+    // rank stops every rank, with its message.
+    backend_->begin_cells();
+    std::string failure;
+    try {
+      for (size_t i = 0; i < model_.bodies.size(); ++i)
+        model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr,
+                                   &history_[i], dt_, owned_cells_.empty() ? nullptr : &owned_cells_[i]);
+    } catch (const SolverError& e) {
+      if (backend_->ranks() == 1) throw;
+      failure = e.what();
+    }
+    backend_->end_cells();
+    if (backend_->ranks() > 1) {
+      if (backend_->any_failed(failure)) throw SolverError(failure);
+      backend_->sum_over_ranks(fint.data(), fint.size());
+    }
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);
     if (!contacts_.empty()) {
@@ -1183,6 +1247,12 @@ AnalysisSummary Analysis::run_steps() {
       last_du_ = u_ - u_converged_;
       last_dl_ = dl;
       u_converged_ = u_;
+      if (!owned_cells_.empty())  // each cell's trial state from the rank that assembled it
+        for (size_t i = 0; i < history_.size(); ++i) {
+          if (history_[i].empty()) continue;
+          history_[i].keep_cells(owned_cells_[i]);
+          backend_->sum_over_ranks(history_[i].trial_values().data(), static_cast<Index>(history_[i].trial_values().size()));
+        }
       for (auto& h : history_) h.commit();
       for (auto& c : contacts_) rec.contact.push_back(c->commit());
       report_contact_pressures();

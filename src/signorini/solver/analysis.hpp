@@ -88,6 +88,8 @@ class Analysis {
 
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
+  // How the algebra is shared between MPI ranks: "serial", or a sentence (main prints it).
+  const std::string& algebra() const { return algebra_; }
   // Unknowns: the displacement DOFs, then the contact multipliers.
   Index num_unknowns() const { return static_cast<Index>(u_.size()); }
   const std::vector<std::unique_ptr<ContactInterface>>& contacts() const { return contacts_; }
@@ -150,6 +152,7 @@ class Analysis {
   // Output pressures from the nodal contact forces of each pair (both passes together).
   void report_contact_pressures();
   // Rebuilds the sparse pattern from the cells and the contact couplings.
+  void choose_algebra();
   void rebuild_pattern();
   void begin_step(int s);
   // One increment, to the step fraction lambda from the last converged state (size dl), in
@@ -204,6 +207,12 @@ class Analysis {
   Model& model_;
   DofMap dofs_;
   std::unique_ptr<AlgebraBackend> backend_;  // the global tangent, its pattern and the Newton solve
+  // Under mpirun with a PETSc solver: how the ranks share the algebra ("partitioned": each
+  // assembles its own cells into its rows of one distributed matrix; "replicated": each
+  // assembles the whole system, PETSc distributes the solve), and why when replicated.
+  std::string algebra_ = "serial";
+  // Per body and block, whether this rank assembles each cell (partitioned assembly only).
+  std::vector<std::vector<std::vector<char>>> owned_cells_;
   std::vector<char> is_multiplier_;  // per unknown
   bool has_multipliers_ = false;
   bool symmetric_ = true;

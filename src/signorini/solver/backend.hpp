@@ -53,6 +53,26 @@ class AlgebraBackend {
   // Algebraic multigrid wants to know where the unknowns sit (its near-nullspace).
   virtual bool wants_layout() const { return false; }
   virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
+
+  // Partitioned assembly (the distributed backend; the serial one has one rank). Every rank
+  // runs the same analysis on the same (replicated) vectors, but the bodies' cells are shared
+  // out: between begin_cells() and end_cells() each rank adds the entries of its own cells
+  // (cell_owner()); outside, the code that every rank runs alike (loads, contact,
+  // stabilization) is added once, by rank 0. The internal forces, summed per rank, are then
+  // made whole by sum_over_ranks().
+  virtual int ranks() const { return 1; }
+  virtual int rank() const { return 0; }
+  // The nodes' reference coordinates, for sharing out the cells (before build_pattern).
+  virtual void set_coordinates(const std::vector<Vec3>* X) {}
+  // The rank that assembles cell e of `block` (one of build_pattern's cells).
+  virtual int cell_owner(const ElementBlock* block, Index e) const { return 0; }
+  virtual void begin_cells() {}
+  virtual void end_cells() {}
+  // v[0..n) summed over the ranks, the same bits on every rank.
+  virtual void sum_over_ranks(Real* v, Index n) {}
+  // Collective: whether any rank has a failure to report (its `message` not empty); the
+  // lowest such rank's message is then in `message` on every rank.
+  virtual bool any_failed(std::string& message) { return !message.empty(); }
 };
 
 // The serial backend: SparseSystem storage, the automatic linear solver (CHOLMOD, UMFPACK,

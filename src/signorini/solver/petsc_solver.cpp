@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
 #include "signorini/core/error.hpp"
+#include "signorini/solver/backend.hpp"
 
 namespace signorini {
 
@@ -38,13 +42,106 @@ void check(PetscErrorCode code, const char* what) {
   throw Error(fmt::format("PETSc: {} failed ({})", what, text ? text : "unknown error"));
 }
 
+// PETSc started, the deck's raw options in its database; the ranks and this one.
+void start(const LinearSolverSettings& s, int& size, int& rank) {
+  ensure_petsc();
+  if (!s.options.empty()) check(PetscOptionsInsertString(nullptr, s.options.c_str()), "reading the options");
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+}
+
+// The Krylov method and preconditioner of `s` (symmetric: CG or Cholesky; else GMRES or LU),
+// then the user's raw options.
+void configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
+  PC pc = nullptr;
+  KSPGetPC(ksp, &pc);
+  if (s.type == "mumps") {
+    check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+    check(PCSetType(pc, symmetric ? PCCHOLESKY : PCLU), "PCSetType");
+    check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  } else if (is_amg_solver(s.type)) {
+    check(KSPSetType(ksp, symmetric ? KSPCG : KSPGMRES), "KSPSetType");
+    // rtol on the true residual |b - A x| / |b| (CG's default is the preconditioned one).
+    if (symmetric) KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED);
+    if (!symmetric) KSPGMRESSetRestart(ksp, 200);
+    if (s.type == "gamg") {
+      check(PCSetType(pc, PCGAMG), "PCSetType");
+      PCGAMGSetType(pc, PCGAMGAGG);
+      PCGAMGSetReuseInterpolation(pc, PETSC_TRUE);
+    } else {
+      check(PCSetType(pc, PCHYPRE), "PCSetType (is PETSc built with hypre?)");
+      PCHYPRESetType(pc, "boomeramg");
+    }
+  }
+  check(KSPSetTolerances(ksp, s.rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+  check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+}
+
+// The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
+// Gram-Schmidt): translations, and rotations about the centroid (one in 2D, three in 3D);
+// axisymmetric: the axial translation only (a radial motion strains the hoops). Set as A's
+// near-nullspace, this rank's rows [rstart, rend) of a matrix of `padded` rows.
+void set_near_nullspace(Mat A, const UnknownLayout& layout, Index padded, Index rstart, Index rend) {
+  const Index n = layout.size();
+  const int dim = layout.dim;
+  Vec3 c = Vec3::Zero();
+  Index count = 0;
+  for (Index i = 0; i < n; ++i)
+    if (layout.comp[i] == 0) c += layout.x[i], ++count;
+  if (count) c /= static_cast<Real>(count);
+  std::vector<VecX> modes;
+  auto translation = [&](int d) {
+    VecX v = VecX::Zero(padded);
+    for (Index i = 0; i < n; ++i) v(i) = layout.comp[i] == d ? 1.0 : 0.0;
+    return v;
+  };
+  auto rotation = [&](int p, int q) {  // rotation in the (p, q) plane: u_p = -x_q, u_q = x_p
+    VecX v = VecX::Zero(padded);
+    for (Index i = 0; i < n; ++i) {
+      const Vec3 x = layout.x[i] - c;
+      if (layout.comp[i] == p) v(i) = -x(q);
+      else if (layout.comp[i] == q) v(i) = x(p);
+    }
+    return v;
+  };
+  if (layout.axisymmetric) {
+    modes.push_back(translation(1));
+  } else {
+    for (int d = 0; d < dim; ++d) modes.push_back(translation(d));
+    if (dim == 2) modes.push_back(rotation(0, 1));
+    if (dim == 3) {
+      modes.push_back(rotation(0, 1));
+      modes.push_back(rotation(1, 2));
+      modes.push_back(rotation(2, 0));
+    }
+  }
+  std::vector<VecX> basis;
+  for (VecX& v : modes) {
+    for (const VecX& e : basis) v -= v.dot(e) * e;
+    const Real norm = v.norm();
+    if (norm > 1e-12 * std::sqrt(static_cast<Real>(n))) basis.push_back(v / norm);
+  }
+  if (basis.empty()) return;
+  std::vector<Vec> vecs(basis.size());
+  for (size_t k = 0; k < basis.size(); ++k) {
+    check(MatCreateVecs(A, &vecs[k], nullptr), "MatCreateVecs");
+    PetscScalar* p = nullptr;
+    VecGetArray(vecs[k], &p);
+    std::copy(basis[k].data() + rstart, basis[k].data() + rend, p);
+    VecRestoreArray(vecs[k], &p);
+  }
+  MatNullSpace space = nullptr;
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space),
+        "MatNullSpaceCreate");
+  check(MatSetNearNullSpace(A, space), "MatSetNearNullSpace");
+  MatNullSpaceDestroy(&space);
+  for (Vec& v : vecs) VecDestroy(&v);
+}
+
 class PetscKsp final : public LinearSolver {
  public:
   explicit PetscKsp(LinearSolverSettings s) : s_(std::move(s)) {
-    ensure_petsc();
-    if (!s_.options.empty()) check(PetscOptionsInsertString(nullptr, s_.options.c_str()), "reading the options");
-    MPI_Comm_size(PETSC_COMM_WORLD, &size_);
-    MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
+    start(s_, size_, rank_);
   }
   ~PetscKsp() override {
     if (ksp_) KSPDestroy(&ksp_);
@@ -264,93 +361,16 @@ class PetscKsp final : public LinearSolver {
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
   }
 
-  // The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
-  // Gram-Schmidt): translations, and rotations about the centroid (one in 2D, three in 3D);
-  // axisymmetric: the axial translation only (a radial motion strains the hoops).
   void set_near_nullspace(Index n) {
     nullspace_stale_ = false;
-    if (!layout_ || layout_->size() != n) return;
-    const int dim = layout_->dim;
-    Vec3 c = Vec3::Zero();
-    Index count = 0;
-    for (Index i = 0; i < n; ++i)
-      if (layout_->comp[i] == 0) c += layout_->x[i], ++count;
-    if (count) c /= static_cast<Real>(count);
-    std::vector<VecX> modes;
-    auto translation = [&](int d) {
-      VecX v = VecX::Zero(padded_);
-      for (Index i = 0; i < n; ++i) v(i) = layout_->comp[i] == d ? 1.0 : 0.0;
-      return v;
-    };
-    auto rotation = [&](int p, int q) {  // rotation in the (p, q) plane: u_p = -x_q, u_q = x_p
-      VecX v = VecX::Zero(padded_);
-      for (Index i = 0; i < n; ++i) {
-        const Vec3 x = layout_->x[i] - c;
-        if (layout_->comp[i] == p) v(i) = -x(q);
-        else if (layout_->comp[i] == q) v(i) = x(p);
-      }
-      return v;
-    };
-    if (layout_->axisymmetric) {
-      modes.push_back(translation(1));
-    } else {
-      for (int d = 0; d < dim; ++d) modes.push_back(translation(d));
-      if (dim == 2) modes.push_back(rotation(0, 1));
-      if (dim == 3) {
-        modes.push_back(rotation(0, 1));
-        modes.push_back(rotation(1, 2));
-        modes.push_back(rotation(2, 0));
-      }
-    }
-    std::vector<VecX> basis;
-    for (VecX& v : modes) {
-      for (const VecX& e : basis) v -= v.dot(e) * e;
-      const Real norm = v.norm();
-      if (norm > 1e-12 * std::sqrt(static_cast<Real>(n))) basis.push_back(v / norm);
-    }
-    if (basis.empty()) return;
-    std::vector<Vec> vecs(basis.size());
-    for (size_t k = 0; k < basis.size(); ++k) {
-      check(MatCreateVecs(A_, &vecs[k], nullptr), "MatCreateVecs");
-      PetscScalar* p = nullptr;
-      VecGetArray(vecs[k], &p);
-      std::copy(basis[k].data() + rstart_, basis[k].data() + rend_, p);
-      VecRestoreArray(vecs[k], &p);
-    }
-    MatNullSpace space = nullptr;
-    check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space),
-          "MatNullSpaceCreate");
-    check(MatSetNearNullSpace(A_, space), "MatSetNearNullSpace");
-    MatNullSpaceDestroy(&space);
-    for (Vec& v : vecs) VecDestroy(&v);
+    if (layout_ && layout_->size() == n) signorini::set_near_nullspace(A_, *layout_, padded_, rstart_, rend_);
   }
 
   void configure() {
     if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
     check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
     if (configured_) return;
-    PC pc = nullptr;
-    KSPGetPC(ksp_, &pc);
-    if (s_.type == "mumps") {
-      check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
-      check(PCSetType(pc, symmetric_ ? PCCHOLESKY : PCLU), "PCSetType");
-      check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-    } else if (is_amg_solver(s_.type)) {
-      check(KSPSetType(ksp_, symmetric_ ? KSPCG : KSPGMRES), "KSPSetType");
-      // rtol on the true residual |b - A x| / |b| (CG's default is the preconditioned one).
-      if (symmetric_) KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED);
-      if (!symmetric_) KSPGMRESSetRestart(ksp_, 200);
-      if (s_.type == "gamg") {
-        check(PCSetType(pc, PCGAMG), "PCSetType");
-        PCGAMGSetType(pc, PCGAMGAGG);
-        PCGAMGSetReuseInterpolation(pc, PETSC_TRUE);
-      } else {
-        check(PCSetType(pc, PCHYPRE), "PCSetType (is PETSc built with hypre?)");
-        PCHYPRESetType(pc, "boomeramg");
-      }
-    }
-    check(KSPSetTolerances(ksp_, s_.rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
-    check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+    configure_ksp(ksp_, s_, symmetric_);
     configured_ = true;
   }
 
@@ -369,6 +389,373 @@ class PetscKsp final : public LinearSolver {
   std::string failure_ = "failed";
 };
 
+
+// Several ranks, each assembling its own cells (AlgebraBackend's partitioned assembly): one
+// distributed AIJ matrix. The cells are shared out by recursive coordinate bisection of their
+// centroids (every rank computes the same partition from the same replicated mesh), and the
+// nodes renumbered part after part, so that each rank owns a contiguous range of rows: the
+// nodes of its cells not already taken by a lower rank (the last rank also the multipliers and
+// obstacle unknowns, and the identity rows that pad the size to a multiple of the node block).
+// The permutation stays inside this class: the analysis sees its own numbering. Entries added
+// into another rank's rows travel to it when the assembly ends (PETSc's stash). No rank holds
+// the whole matrix; the vectors stay replicated (every rank runs the same Newton iterations).
+class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
+ public:
+  explicit PetscBackend(LinearSolverSettings s) : s_(std::move(s)) {
+    start(s_, size_, rank_);
+  }
+  ~PetscBackend() override {
+    if (ksp_) KSPDestroy(&ksp_);
+    destroy();
+  }
+  std::string name() const override { return fmt::format("distributed over {} ranks", size_); }
+  Index owned_begin() const override { return std::min(rstart_, n_); }
+  Index owned_end() const override { return std::min(rend_, n_); }
+  int ranks() const override { return size_; }
+  int rank() const override { return rank_; }
+  void set_coordinates(const std::vector<Vec3>* X) override { X_ = X; }
+  int cell_owner(const ElementBlock* block, Index e) const override {
+    const auto it = part_.find(block);
+    return it == part_.end() ? 0 : it->second[static_cast<size_t>(e)];
+  }
+
+  // The pattern from this rank's cells, rank 0's coupling groups and every owned diagonal,
+  // gathered by a MATPREALLOCATOR (off-rank rows sent to their owners), then an AIJ matrix
+  // preallocated exactly and filled with zeros on it.
+  void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
+                     const std::vector<std::vector<Index>>& couplings, Index total) override {
+    destroy();
+    n_ = total;
+    const int ndpn = std::max(dofs.dofs_per_node(), 1);
+    bs_ = ndpn;
+    padded_ = (n_ + bs_ - 1) / bs_ * bs_;
+    if (part_.empty()) partition(cells);
+    number(dofs, cells);
+    rstart_ = starts_[rank_];
+    rend_ = starts_[rank_ + 1];
+    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
+    Mat pre = nullptr;
+    check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
+    check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
+    check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
+    check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
+    check(MatSetUp(pre), "MatSetUp");
+    std::vector<PetscInt> idx;
+    std::vector<PetscScalar> zeros;
+    auto insert = [&]() {
+      if (idx.empty()) return;
+      zeros.assign(idx.size() * idx.size(), 0.0);
+      const PetscInt k = static_cast<PetscInt>(idx.size());
+      check(MatSetValues(pre, k, idx.data(), k, idx.data(), zeros.data(), INSERT_VALUES), "MatSetValues (pattern)");
+    };
+    for (const ElementBlock* b : cells) {
+      const int npe = b->nodes_per_element();
+      for (Index e = 0; e < b->size(); ++e) {
+        if (cell_owner(b, e) != rank_) continue;
+        idx.clear();
+        const Index* c = b->element(e);
+        for (int a = 0; a < npe; ++a)
+          for (int d = 0; d < ndpn && dofs.has_dofs(c[a]); ++d) idx.push_back(row(dofs.dof(c[a], d)));
+        insert();
+      }
+    }
+    if (rank_ == 0)
+      for (const auto& group : couplings) {
+        idx.clear();
+        for (Index i : group)
+          if (i >= 0) idx.push_back(row(i));
+        insert();
+      }
+    for (Index i = rstart_; i < rend_; ++i) {
+      idx.assign(1, static_cast<PetscInt>(i));
+      insert();
+    }
+    check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
+    check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
+    check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
+    check(MatSetSizes(A_, nloc, nloc, ng, ng), "MatSetSizes");
+    check(MatSetType(A_, MATAIJ), "MatSetType");
+    check(MatSetBlockSize(A_, bs_), "MatSetBlockSize");
+    check(MatPreallocatorPreallocate(pre, PETSC_TRUE, A_), "MatPreallocatorPreallocate");
+    MatDestroy(&pre);
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    // Element blocks come column-major; an entry outside the pattern is stored (and reported
+    // by missed(), so that the analysis rebuilds the pattern) rather than an error.
+    MatSetOption(A_, MAT_ROW_ORIENTED, PETSC_FALSE);
+    MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+    pattern_nonzeros_ = global_nonzeros();
+    check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+    check(VecScatterCreateToAll(x_, &gather_, &x_all_), "VecScatterCreateToAll");
+    dirty_ = false;
+    nullspace_stale_ = true;
+  }
+  Index rows() const override { return n_; }
+  Index nonzeros() const override { return pattern_nonzeros_; }
+
+  void zero() override {
+    ensure_assembled();
+    check(MatZeroEntries(A_), "MatZeroEntries");
+    // The padding rows' identity (on the last rank).
+    for (Index i = std::max(rstart_, n_); i < rend_; ++i) {
+      const PetscInt row = static_cast<PetscInt>(i);
+      const PetscScalar one = 1.0;
+      check(MatSetValues(A_, 1, &row, 1, &row, &one, ADD_VALUES), "MatSetValues");
+    }
+    dirty_ = true;
+  }
+  GlobalMatrix& matrix() override { return *this; }
+  void add(const Index* dofs, int n, const MatX& k) override {
+    dirty_ = true;
+    if (!in_cells_ && rank_ != 0) return;  // every rank runs this code alike: rank 0 adds it
+    thread_local std::vector<PetscInt> idx;
+    idx.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) idx[i] = dofs[i] < 0 ? -1 : row(dofs[i]);  // negative: skipped by PETSc
+    PetscErrorCode code = 0;
+#pragma omp critical(signorini_petsc_add)
+    code = MatSetValues(A_, n, idx.data(), n, idx.data(), k.data(), ADD_VALUES);
+    check(code, "MatSetValues");
+  }
+  bool missed() const override {
+    ensure_assembled();
+    return global_nonzeros() > pattern_nonzeros_;
+  }
+  void multiply(const VecX& x, VecX& y) const override {
+    ensure_assembled();
+    set_owned(b_, x);
+    check(MatMult(A_, b_, x_), "MatMult");
+    gather(x_, y);
+  }
+  Real mean_abs_diagonal() const override {
+    ensure_assembled();
+    check(MatGetDiagonal(A_, x_), "MatGetDiagonal");
+    const PetscScalar* d = nullptr;
+    VecGetArrayRead(x_, &d);
+    Real sum = 0;
+    for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
+    VecRestoreArrayRead(x_, &d);
+    const_cast<PetscBackend*>(this)->sum_over_ranks(&sum, 1);
+    return n_ > 0 ? sum / static_cast<Real>(n_) : 1.0;
+  }
+  void apply_dirichlet(const std::vector<char>& constrained, Real scale) override {
+    ensure_assembled();
+    std::vector<PetscInt> rows;
+    for (Index i = rstart_; i < std::min(rend_, n_); ++i)
+      if (constrained[unknown_[i]]) rows.push_back(static_cast<PetscInt>(i));
+    check(MatZeroRowsColumns(A_, static_cast<PetscInt>(rows.size()), rows.data(), scale, nullptr, nullptr),
+          "MatZeroRowsColumns");
+  }
+  bool wants_layout() const override { return is_amg_solver(s_.type); }
+  void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
+    layout_ = std::move(layout);
+    nullspace_stale_ = true;
+  }
+  int last_iterations() const override { return iterations_; }
+
+  std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
+    iterations_ = 0;
+    if (q.is_multiplier && is_amg_solver(s_.type))
+      throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
+                            " ranks cannot take the contact multipliers' saddle point (use enforcement: penalty, or "
+                            "linear: mumps)");
+    ensure_assembled();
+    if (q.symmetric != symmetric_ || !ksp_) configured_ = false;
+    symmetric_ = q.symmetric;
+    MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
+    if (nullspace_stale_ && s_.type == "gamg" && layout_ && layout_->size() == n_) {
+      UnknownLayout permuted = *layout_;
+      for (Index i = 0; i < n_; ++i) {
+        permuted.x[row(i)] = layout_->x[i];
+        permuted.comp[row(i)] = layout_->comp[i];
+      }
+      set_near_nullspace(A_, permuted, padded_, rstart_, rend_);
+      nullspace_stale_ = false;
+    }
+    if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
+    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    if (!configured_) {
+      configure_ksp(ksp_, s_, symmetric_);
+      configured_ = true;
+    }
+    set_owned(b_, r);
+    const PetscErrorCode code = KSPSolve(ksp_, b_, x_);
+    if (code != 0) {
+      const char* text = nullptr;
+      PetscErrorMessage(code, &text, nullptr);
+      throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
+    }
+    KSPConvergedReason reason;
+    KSPGetConvergedReason(ksp_, &reason);
+    PetscInt its = 0;
+    KSPGetIterationNumber(ksp_, &its);
+    iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);
+    if (reason < 0)
+      throw SolverError(fmt::format("linear solver {}: the Krylov solver did not converge ({} after {} iterations)",
+                                    s_.type, KSPConvergedReasons[reason], its));
+    gather(x_, du);
+    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
+    return s_.type;
+  }
+
+  void begin_cells() override {
+    in_cells_ = true;
+    dirty_ = true;
+  }
+  void end_cells() override { in_cells_ = false; }
+  // Reduced on rank 0 in one fixed order, then broadcast: the same bits everywhere, which the
+  // ranks' identical Newton decisions rely on.
+  void sum_over_ranks(Real* v, Index n) override {
+    const int count = static_cast<int>(n);
+    if (rank_ == 0) MPI_Reduce(MPI_IN_PLACE, v, count, MPI_DOUBLE, MPI_SUM, 0, PETSC_COMM_WORLD);
+    else MPI_Reduce(v, nullptr, count, MPI_DOUBLE, MPI_SUM, 0, PETSC_COMM_WORLD);
+    MPI_Bcast(v, count, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+  }
+  bool any_failed(std::string& message) override {
+    int first = message.empty() ? size_ : rank_;
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    if (first == size_) return false;
+    int length = static_cast<int>(message.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, PETSC_COMM_WORLD);
+    message.resize(static_cast<size_t>(length));
+    MPI_Bcast(message.data(), length, MPI_CHAR, first, PETSC_COMM_WORLD);
+    if (rank_ != first) message += fmt::format(" (on rank {})", first);
+    return true;
+  }
+
+ private:
+  void destroy() {
+    if (A_) MatDestroy(&A_);
+    if (b_) VecDestroy(&b_);
+    if (x_) VecDestroy(&x_);
+    if (x_all_) VecDestroy(&x_all_);
+    if (gather_) VecScatterDestroy(&gather_);
+  }
+  // Collective: every rank calls it at the same point of the same code.
+  void ensure_assembled() const {
+    if (!dirty_) return;
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
+    dirty_ = false;
+  }
+  Index global_nonzeros() const {
+    MatInfo info;
+    check(MatGetInfo(A_, MAT_GLOBAL_SUM, &info), "MatGetInfo");
+    return static_cast<Index>(info.nz_used);
+  }
+  PetscInt row(Index unknown) const { return static_cast<PetscInt>(row_[unknown]); }
+  void set_owned(Vec v, const VecX& full) const {
+    PetscScalar* p = nullptr;
+    check(VecGetArray(v, &p), "VecGetArray");
+    for (Index i = rstart_; i < rend_; ++i) p[i - rstart_] = i < n_ ? full(unknown_[i]) : 0.0;
+    VecRestoreArray(v, &p);
+  }
+  void gather(Vec v, VecX& full) const {
+    check(VecScatterBegin(gather_, v, x_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+    check(VecScatterEnd(gather_, v, x_all_, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+    const PetscScalar* p = nullptr;
+    check(VecGetArrayRead(x_all_, &p), "VecGetArrayRead");
+    full.resize(n_);
+    for (Index i = 0; i < n_; ++i) full(i) = p[row_[i]];
+    VecRestoreArrayRead(x_all_, &p);
+  }
+
+  // Recursive coordinate bisection of the cells' centroids (Berger & Bokhari 1987): the
+  // longest side of the parts' bounding box is cut where the ranks on either side get cells
+  // in proportion to their number. Ties are broken by the cells' order, so that every rank
+  // finds the same parts.
+  void partition(const std::vector<const ElementBlock*>& cells) {
+    struct Item {
+      Vec3 c;
+      Index order;
+    };
+    std::vector<Item> items;
+    std::vector<std::pair<const ElementBlock*, Index>> where;
+    for (const ElementBlock* b : cells) {
+      part_[b].assign(static_cast<size_t>(b->size()), 0);
+      const int npe = b->nodes_per_element();
+      for (Index e = 0; e < b->size(); ++e) {
+        Vec3 c = Vec3::Zero();
+        if (X_) {
+          for (int a = 0; a < npe; ++a) c += (*X_)[b->element(e)[a]];
+          c /= npe;
+        } else {
+          c(0) = static_cast<Real>(items.size());  // no coordinates: the cells' order
+        }
+        items.push_back({c, static_cast<Index>(items.size())});
+        where.emplace_back(b, e);
+      }
+    }
+    std::function<void(size_t, size_t, int, int)> bisect = [&](size_t lo, size_t hi, int r0, int r1) {
+      if (r1 - r0 == 1 || hi - lo < 2) {
+        for (size_t k = lo; k < hi; ++k) part_[where[items[k].order].first][where[items[k].order].second] = r0;
+        return;
+      }
+      Vec3 low = Vec3::Constant(std::numeric_limits<Real>::max()), high = -low;
+      for (size_t k = lo; k < hi; ++k) {
+        low = low.cwiseMin(items[k].c);
+        high = high.cwiseMax(items[k].c);
+      }
+      int axis = 0;
+      (high - low).maxCoeff(&axis);
+      const int rm = (r0 + r1) / 2;
+      const size_t mid = lo + (hi - lo) * static_cast<size_t>(rm - r0) / static_cast<size_t>(r1 - r0);
+      std::nth_element(items.begin() + static_cast<std::ptrdiff_t>(lo), items.begin() + static_cast<std::ptrdiff_t>(mid),
+                       items.begin() + static_cast<std::ptrdiff_t>(hi), [axis](const Item& a, const Item& b) {
+                         return a.c(axis) < b.c(axis) || (a.c(axis) == b.c(axis) && a.order < b.order);
+                       });
+      bisect(lo, mid, r0, rm);
+      bisect(mid, hi, rm, r1);
+    };
+    bisect(0, items.size(), 0, size_);
+  }
+
+  // PETSc's numbering: the node blocks of rank 0's cells first, then those of rank 1's cells
+  // not yet numbered, ...; nodes in no cell and the unknowns after the nodes' last.
+  void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
+    const int ndpn = bs_;
+    const Index slots = dofs.num_dofs() / ndpn;
+    std::vector<Index> slot(static_cast<size_t>(slots), -1);
+    Index next = 0;
+    starts_.assign(static_cast<size_t>(size_) + 1, 0);
+    for (int r = 0; r < size_; ++r) {
+      starts_[r] = next * ndpn;
+      for (const ElementBlock* b : cells)
+        for (Index e = 0; e < b->size(); ++e) {
+          if (cell_owner(b, e) != r) continue;
+          const Index* c = b->element(e);
+          for (int a = 0; a < b->nodes_per_element(); ++a) {
+            if (!dofs.has_dofs(c[a])) continue;
+            Index& s = slot[dofs.dof(c[a], 0) / ndpn];
+            if (s < 0) s = next++;
+          }
+        }
+    }
+    for (Index& s : slot)
+      if (s < 0) s = next++;
+    starts_[size_] = padded_;
+    row_.resize(static_cast<size_t>(n_));
+    unknown_.assign(static_cast<size_t>(padded_), -1);
+    for (Index i = 0; i < n_; ++i) {
+      row_[i] = i < slots * ndpn ? slot[i / ndpn] * ndpn + i % ndpn : i;
+      unknown_[row_[i]] = i;
+    }
+  }
+
+  LinearSolverSettings s_;
+  std::shared_ptr<const UnknownLayout> layout_;
+  int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
+  Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
+  std::vector<Index> starts_;               // first PETSc row of each rank (and the size)
+  std::vector<Index> row_, unknown_;         // the analysis' unknown -> PETSc row, and back
+  const std::vector<Vec3>* X_ = nullptr;     // the nodes' reference coordinates
+  std::unordered_map<const ElementBlock*, std::vector<int>> part_;  // each cell's rank
+  Mat A_ = nullptr;
+  Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
+  VecScatter gather_ = nullptr;
+  KSP ksp_ = nullptr;
+  bool symmetric_ = true, configured_ = false, nullspace_stale_ = true, in_cells_ = false;
+  mutable bool dirty_ = false;
+};
 }  // namespace
 
 int petsc_world_size() {
@@ -392,6 +779,15 @@ MpiInfo start_petsc_if_launched_by_mpi() {
 
 std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& settings) {
   return std::make_unique<PetscKsp>(settings);
+}
+
+std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& settings) {
+  return std::make_unique<PetscBackend>(settings);
+}
+
+void abort_all_ranks(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);  // not reached
 }
 
 void finalize_petsc() {

@@ -17,6 +17,11 @@ namespace signorini {
 
 std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& settings);
 
+// The distributed backend (several ranks): each rank assembles its own cells into the rows it
+// owns of one PETSc matrix, solved by the KSP of `settings` (gamg, hypre, mumps, petsc).
+class AlgebraBackend;
+std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& settings);
+
 // PETSc (and MPI) are initialized on first use; finalize_petsc() ends them at the end of
 // main when they were started (a no-op otherwise).
 void finalize_petsc();
@@ -30,6 +35,8 @@ struct MpiInfo {
   int rank = 0, size = 1;
 };
 MpiInfo start_petsc_if_launched_by_mpi();
+// Ends every rank's process with `code` (an error on some ranks only: MPI_Abort).
+[[noreturn]] void abort_all_ranks(int code);
 // Ranks of PETSC_COMM_WORLD (1 before PETSc starts).
 int petsc_world_size();
 
