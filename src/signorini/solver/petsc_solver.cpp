@@ -709,29 +709,31 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     bisect(0, items.size(), 0, size_);
   }
 
-  // PETSc's numbering: the node blocks of rank 0's cells first, then those of rank 1's cells
-  // not yet numbered, ...; nodes in no cell and the unknowns after the nodes' last.
+  // PETSc's numbering: a node block belongs to the lowest rank among its cells' (nodes in no
+  // cell: the last rank); rank 0's blocks come first, then rank 1's, ..., each rank's in the
+  // analysis' order; the unknowns after the nodes' last stay where they are.
   void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
     const int ndpn = bs_;
     const Index slots = dofs.num_dofs() / ndpn;
+    std::vector<int> owner(static_cast<size_t>(slots), size_ - 1);
+    for (const ElementBlock* b : cells)
+      for (Index e = 0; e < b->size(); ++e) {
+        const int r = cell_owner(b, e);
+        const Index* c = b->element(e);
+        for (int a = 0; a < b->nodes_per_element(); ++a)
+          if (dofs.has_dofs(c[a])) {
+            int& o = owner[dofs.dof(c[a], 0) / ndpn];
+            o = std::min(o, r);
+          }
+      }
     std::vector<Index> slot(static_cast<size_t>(slots), -1);
     Index next = 0;
     starts_.assign(static_cast<size_t>(size_) + 1, 0);
     for (int r = 0; r < size_; ++r) {
       starts_[r] = next * ndpn;
-      for (const ElementBlock* b : cells)
-        for (Index e = 0; e < b->size(); ++e) {
-          if (cell_owner(b, e) != r) continue;
-          const Index* c = b->element(e);
-          for (int a = 0; a < b->nodes_per_element(); ++a) {
-            if (!dofs.has_dofs(c[a])) continue;
-            Index& s = slot[dofs.dof(c[a], 0) / ndpn];
-            if (s < 0) s = next++;
-          }
-        }
+      for (Index k = 0; k < slots; ++k)
+        if (owner[k] == r) slot[k] = next++;
     }
-    for (Index& s : slot)
-      if (s < 0) s = next++;
     starts_[size_] = padded_;
     row_.resize(static_cast<size_t>(n_));
     unknown_.assign(static_cast<size_t>(padded_), -1);
