@@ -26,11 +26,12 @@ std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& s
 // main when they were started (a no-op otherwise).
 void finalize_petsc();
 
-// Several MPI ranks (mpirun -np N): every rank reads the deck, assembles the whole system and
-// runs the same Newton iterations; the PETSc solvers distribute the linear solve over the
-// ranks (each gives PETSc its own block of rows) and give every rank the whole solution.
-// Only rank 0 writes files and prints. Started at the beginning of main when the process was
-// launched by mpirun (launched_ranks() > 1).
+// Several MPI ranks (mpirun -np N): every rank reads the deck and runs the same Newton
+// iterations on replicated vectors; the assembly is partitioned (make_petsc_backend) or, when
+// contact multipliers are condensed for algebraic multigrid, every rank assembles the whole
+// system and the PETSc solvers distribute the solve (each gives PETSc its own block of rows
+// and receives the whole solution). Only rank 0 writes files and prints. Started at the
+// beginning of main when the process was launched by mpirun (launched_ranks() > 1).
 struct MpiInfo {
   int rank = 0, size = 1;
 };
