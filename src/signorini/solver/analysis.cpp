@@ -207,9 +207,11 @@ Analysis::Analysis(Model& model)
 }
 
 // Several MPI ranks with a PETSc solver: partitioned assembly (each rank its own cells, into
-// its rows of one distributed matrix) unless algebraic multigrid needs the contact
-// multipliers condensed, which takes the whole matrix on one process: then every rank
-// assembles the whole system and PETSc distributes the solve (replicated).
+// its rows of one distributed matrix). Algebraic multigrid needs the contact multipliers
+// condensed: the distributed backend does it when each closed constraint has a slave DOF of
+// its own (node-to-segment, node-to-node, one pass); otherwise (mortar, segment-to-segment,
+// two passes: the coupled rows of condensed_solve.hpp) every rank assembles the whole system
+// and PETSc distributes the solve (replicated).
 void Analysis::choose_algebra() {
   const int ranks = parallel_ranks();
   const std::string& linear = model_.linear_solver.type;
@@ -219,12 +221,15 @@ void Analysis::choose_algebra() {
                            "are distributed)", ranks, linear);
     return;
   }
-  if (has_multipliers_ && is_amg_solver(linear)) {
-    algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact multipliers "
-                           "condensed, which takes the whole matrix; enforcement: penalty, or linear: mumps, "
-                           "assembles partitioned)", ranks, linear);
-    return;
-  }
+  if (has_multipliers_ && is_amg_solver(linear))
+    for (const ContactPairSettings& cs : model_.contacts)
+      if (cs.passes != 1 || (cs.discretization != "node_to_segment" && cs.discretization != "node_to_node")) {
+        algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact "
+                               "multipliers of pair '{}' ({}, {} pass{}) condensed with their couplings, which takes "
+                               "the whole matrix; enforcement: penalty, or linear: mumps, assembles partitioned)",
+                               ranks, linear, cs.name, cs.discretization, cs.passes, cs.passes > 1 ? "es" : "");
+        return;
+      }
 #ifdef SIGNORINI_HAVE_PETSC
   backend_ = make_petsc_backend(model_.linear_solver);
   backend_->set_coordinates(&model_.mesh.nodes);

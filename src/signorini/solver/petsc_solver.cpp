@@ -6,11 +6,13 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <unordered_map>
 
 #include <fmt/format.h>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
 #include "signorini/solver/backend.hpp"
 
 namespace signorini {
@@ -426,6 +428,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
     destroy();
     n_ = total;
+    nodal_ = dofs.num_dofs();
     const int ndpn = std::max(dofs.dofs_per_node(), 1);
     bs_ = ndpn;
     padded_ = (n_ + bs_ - 1) / bs_ * bs_;
@@ -496,6 +499,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void zero() override {
     ensure_assembled();
     check(MatZeroEntries(A_), "MatZeroEntries");
+    extra_.clear();
     // The padding rows' identity (on the last rank).
     for (Index i = std::max(rstart_, n_); i < rend_; ++i) {
       const PetscInt row = static_cast<PetscInt>(i);
@@ -507,6 +511,15 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   GlobalMatrix& matrix() override { return *this; }
   void add(const Index* dofs, int n, const MatX& k) override {
     dirty_ = true;
+    if (!in_cells_ && nodal_ < n_) {
+      // Every rank keeps the entries beyond the nodes' DOFs (the contact multipliers' rows and
+      // columns, obstacle and rotation unknowns): the condensation reads them.
+#pragma omp critical(signorini_petsc_extra)
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b)
+          if (dofs[a] >= 0 && dofs[b] >= 0 && (dofs[a] >= nodal_ || dofs[b] >= nodal_) && k(a, b) != 0)
+            extra_[{dofs[a], dofs[b]}] += k(a, b);
+    }
     if (!in_cells_ && rank_ != 0) return;  // every rank runs this code alike: rank 0 adds it
     thread_local std::vector<PetscInt> idx;
     idx.resize(static_cast<size_t>(n));
@@ -544,6 +557,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       if (constrained[unknown_[i]]) rows.push_back(static_cast<PetscInt>(i));
     check(MatZeroRowsColumns(A_, static_cast<PetscInt>(rows.size()), rows.data(), scale, nullptr, nullptr),
           "MatZeroRowsColumns");
+    for (auto& [ij, v] : extra_)
+      if (constrained[ij.first] || constrained[ij.second]) v = ij.first == ij.second ? scale : 0.0;
   }
   bool wants_layout() const override { return is_amg_solver(s_.type); }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
@@ -554,31 +569,230 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
 
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
     iterations_ = 0;
-    if (q.is_multiplier && is_amg_solver(s_.type))
-      throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
-                            " ranks cannot take the contact multipliers' saddle point (use enforcement: penalty, or "
-                            "linear: mumps)");
+    if (q.is_multiplier && is_amg_solver(s_.type)) {
+      if (!q.condense_contact)
+        throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
+                              " ranks cannot take the contact multipliers' saddle point (use enforcement: penalty, or "
+                              "linear: mumps)");
+      return solve_condensed(q, r, du);
+    }
     ensure_assembled();
     if (q.symmetric != symmetric_ || !ksp_) configured_ = false;
     symmetric_ = q.symmetric;
     MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
-    if (nullspace_stale_ && s_.type == "gamg" && layout_ && layout_->size() == n_) {
-      UnknownLayout permuted = *layout_;
-      for (Index i = 0; i < n_; ++i) {
-        permuted.x[row(i)] = layout_->x[i];
-        permuted.comp[row(i)] = layout_->comp[i];
-      }
-      set_near_nullspace(A_, permuted, padded_, rstart_, rend_);
+    if (nullspace_stale_) {
+      near_nullspace(A_);
       nullspace_stale_ = false;
     }
+    set_owned(b_, r);
+    krylov(A_, b_, x_);
+    gather(x_, du);
+    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
+    return s_.type;
+  }
+
+  // Contact multipliers for algebraic multigrid (node-to-segment and node-to-node, one pass):
+  // the elimination of condensed_solve.hpp on the distributed matrix. Each closed multiplier
+  // row m, a_m . du = r_m, eliminates a pivot DOF p of its own (the largest |a_mp| of a DOF no
+  // other closed row touches and on whose row m acts), du = T u~ + z0, and T^T J T u~ =
+  // T^T (r - J z0) goes to the Krylov solver (MatPtAP: no rank forms more than its rows);
+  // dl_m = (r_p - (J du)_p) / J_pm. T keeps the pivots' places (their rows and columns of the
+  // reduced matrix empty, a decoupled diagonal added), so that the node blocks survive.
+  std::string solve_condensed(const NewtonSolveRequest& q, const VecX& r, VecX& du) {
+    log::Timer timer;
+    ensure_assembled();
+    const std::vector<char>& mult = *q.is_multiplier;
+    auto cannot = [&](const std::string& why) {
+      return FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
+                             " ranks cannot condense this contact system: " + why +
+                             " (use linear: mumps, or enforcement: penalty)");
+    };
+    // The multipliers' rows (a_m) and columns (b_m) and diagonals, from the entries kept.
+    std::map<Index, std::vector<std::pair<Index, Real>>> row_of, col_of;
+    std::map<Index, Real> diag;
+    for (const auto& [ij, v] : extra_) {
+      if (v == 0) continue;
+      const auto [i, j] = ij;
+      if (mult[i] && i == j) diag[i] = v;
+      else if (mult[i] && mult[j]) throw cannot("a multiplier row couples two multipliers");
+      else if (mult[i]) row_of[i].emplace_back(j, v);
+      else if (mult[j]) col_of[j].emplace_back(i, v);
+    }
+    std::vector<Index> closed, open;
+    std::map<Index, int> count;  // closed rows whose support holds the unknown
+    for (Index m = nodal_; m < n_; ++m) {
+      if (!mult[m]) continue;
+      const bool has_u = row_of.count(m) > 0;
+      if (has_u && diag.count(m)) throw cannot("a closed multiplier row has a diagonal");
+      if (!has_u) {
+        if (!diag.count(m)) throw SolverError("a contact multiplier's row is empty: the system is singular");
+        open.push_back(m);
+        continue;
+      }
+      closed.push_back(m);
+      for (const auto& [k, a] : row_of[m]) ++count[k];
+    }
+    std::map<Index, size_t> pivot_of;  // pivot unknown -> its closed row
+    std::vector<Index> pivot(closed.size());
+    std::vector<Real> ap(closed.size()), bp(closed.size());
+    for (size_t c = 0; c < closed.size(); ++c) {
+      const Index m = closed[c];
+      Real amax = 0, best = 0;
+      for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
+      std::map<Index, Real> acts;  // J_km over the rows k where m acts
+      for (const auto& [k, b] : col_of[m]) acts[k] = b;
+      pivot[c] = -1;
+      for (const auto& [k, a] : row_of[m]) {
+        if (std::abs(a) < 0.1 * amax || count[k] != 1 || pivot_of.count(k) || !acts.count(k)) continue;
+        if (std::abs(a) <= best) continue;
+        best = std::abs(a);
+        pivot[c] = k;
+        ap[c] = a;
+        bp[c] = acts[k];
+      }
+      if (pivot[c] < 0)
+        throw cannot("a closed constraint has no DOF of its own (two-pass, self-contact, or a slave node that is "
+                     "also a master node)");
+      pivot_of[pivot[c]] = c;
+    }
+    for (const auto& [m, column] : col_of)  // a pivot's row must carry its own multiplier only
+      for (const auto& [k, b] : column) {
+        const auto it = pivot_of.find(k);
+        if (it != pivot_of.end() && closed[it->second] != m && std::binary_search(closed.begin(), closed.end(), m))
+          throw cannot("a pivot's row carries another closed multiplier");
+      }
+    // T, this rank's rows: identity, but empty for multipliers and the pivots' elimination.
+    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
+    std::vector<PetscInt> d_nnz(static_cast<size_t>(nloc), 0), o_nnz(static_cast<size_t>(nloc), 0);
+    std::vector<std::vector<std::pair<PetscInt, PetscScalar>>> rows_T(static_cast<size_t>(nloc));
+    for (Index i = rstart_; i < rend_; ++i) {
+      auto& rt = rows_T[i - rstart_];
+      const Index u = i < n_ ? unknown_[i] : -1;
+      const auto it = u >= 0 ? pivot_of.find(u) : pivot_of.end();
+      // A stored zero on the diagonal of the multipliers' and pivots' rows, so that T^T J T
+      // has their diagonal in its pattern (the decoupled diagonal below, added in place).
+      if ((u >= 0 && mult[u]) || it != pivot_of.end()) rt.emplace_back(static_cast<PetscInt>(i), 0.0);
+      if (u >= 0 && mult[u]) {
+      } else if (it == pivot_of.end()) {
+        rt.emplace_back(static_cast<PetscInt>(i), 1.0);
+      } else {
+        const size_t c = it->second;
+        for (const auto& [k, a] : row_of[closed[c]])
+          if (k != pivot[c]) rt.emplace_back(row(k), -a / ap[c]);
+      }
+      std::sort(rt.begin(), rt.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (const auto& [j, v] : rt) (j >= rstart_ && j < rend_ ? d_nnz : o_nnz)[i - rstart_]++;
+    }
+    // The same T pattern as at the last solve on every rank: T's values and T^T J T updated in
+    // place (and GAMG's interpolation reused); else both made anew.
+    std::vector<PetscInt> pattern;
+    for (const auto& rt : rows_T) {
+      pattern.push_back(static_cast<PetscInt>(rt.size()));
+      for (const auto& [j, v] : rt) pattern.push_back(j);
+    }
+    int same = T_ && Kr_ && pattern == T_pattern_ ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    if (!same) {
+      if (T_) MatDestroy(&T_);
+      if (Kr_) MatDestroy(&Kr_);
+      check(MatCreateAIJ(PETSC_COMM_WORLD, nloc, nloc, ng, ng, 0, d_nnz.data(), 0, o_nnz.data(), &T_), "MatCreateAIJ");
+      check(MatSetBlockSize(T_, bs_), "MatSetBlockSize");
+      T_pattern_ = std::move(pattern);
+    }
+    for (Index i = rstart_; i < rend_; ++i) {
+      const PetscInt pi = static_cast<PetscInt>(i);
+      for (const auto& [j, v] : rows_T[i - rstart_])
+        check(MatSetValues(T_, 1, &pi, 1, &j, &v, INSERT_VALUES), "MatSetValues (T)");
+    }
+    check(MatAssemblyBegin(T_, MAT_FINAL_ASSEMBLY), "assembly (T)");
+    check(MatAssemblyEnd(T_, MAT_FINAL_ASSEMBLY), "assembly (T)");
+    const double t_plan = timer.seconds();
+    check(MatPtAP(A_, T_, same ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &Kr_), "MatPtAP");
+    const double t_ptap = timer.seconds();
+    // The decoupled rows (pivots and multipliers): the mean magnitude of the diagonal.
+    check(MatGetDiagonal(Kr_, x_), "MatGetDiagonal");
+    Real sum = 0;
+    {
+      const PetscScalar* d = nullptr;
+      VecGetArrayRead(x_, &d);
+      for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
+      VecRestoreArrayRead(x_, &d);
+    }
+    sum_over_ranks(&sum, 1);
+    const Index kept = n_ - static_cast<Index>(closed.size() + open.size());  // the unknowns that are not multipliers
+    const Real mean = kept > 0 && sum > 0 ? sum / static_cast<Real>(kept) : 1.0;
+    {
+      PetscScalar* d = nullptr;
+      VecGetArray(x_, &d);
+      for (Index i = rstart_; i < rend_; ++i) {
+        const Index u = i < n_ ? unknown_[i] : -1;
+        d[i - rstart_] = u >= 0 && (mult[u] || pivot_of.count(u)) ? mean : 0.0;
+      }
+      VecRestoreArray(x_, &d);
+    }
+    MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
+    check(MatDiagonalSet(Kr_, x_, ADD_VALUES), "MatDiagonalSet");
+    if (q.body_symmetric != symmetric_ || !ksp_) configured_ = false;
+    symmetric_ = q.body_symmetric;
+    MatSetOption(Kr_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
+    if (!same) near_nullspace(Kr_);
+    // z0, then T^T (r - J z0).
+    VecX z0 = VecX::Zero(n_);
+    for (Index m : open) z0(m) = r(m) / diag[m];
+    for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = r(closed[c]) / ap[c];
+    Vec w = nullptr, rr = nullptr;
+    check(VecDuplicate(x_, &w), "VecDuplicate");
+    check(VecDuplicate(x_, &rr), "VecDuplicate");
+    set_owned(x_, z0);
+    check(MatMult(A_, x_, w), "MatMult");  // J z0
+    set_owned(b_, r);
+    check(VecAYPX(w, -1.0, b_), "VecAYPX");  // r - J z0
+    check(MatMultTranspose(T_, w, rr), "MatMultTranspose");
+    const double t_rhs = timer.seconds();
+    try {
+      krylov(Kr_, rr, w);  // u~
+      log::debug("    condensed on {} ranks: {} closed, {} open; T {:.2f} s, T^T J T {:.2f} s, diagonal and right-hand "
+                 "side {:.2f} s, Krylov {:.2f} s ({} iterations)",
+                 size_, closed.size(), open.size(), t_plan, t_ptap - t_plan, t_rhs - t_ptap, timer.seconds() - t_rhs,
+                 iterations_);
+    } catch (...) {
+      VecDestroy(&w);
+      VecDestroy(&rr);
+      throw;
+    }
+    check(MatMult(T_, w, rr), "MatMult");  // T u~
+    check(VecAXPY(rr, 1.0, x_), "VecAXPY");  // + z0
+    check(MatMult(A_, rr, w), "MatMult");    // J du
+    VecX Jdu;
+    gather(rr, du);
+    gather(w, Jdu);
+    VecDestroy(&w);
+    VecDestroy(&rr);
+    for (size_t c = 0; c < closed.size(); ++c) du(closed[c]) = (r(pivot[c]) - Jdu(pivot[c])) / bp[c];
+    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
+    return "condensed+" + s_.type;
+  }
+
+  // GAMG's near-nullspace on `M` (the layout in PETSc's row order).
+  void near_nullspace(Mat M) {
+    if (s_.type != "gamg" || !layout_ || layout_->size() != n_) return;
+    UnknownLayout permuted = *layout_;
+    for (Index i = 0; i < n_; ++i) {
+      permuted.x[row(i)] = layout_->x[i];
+      permuted.comp[row(i)] = layout_->comp[i];
+    }
+    set_near_nullspace(M, permuted, padded_, rstart_, rend_);
+  }
+
+  // M x = b by the deck's KSP; throws SolverError when it fails.
+  void krylov(Mat M, Vec b, Vec x) {
     if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
-    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    check(KSPSetOperators(ksp_, M, M), "KSPSetOperators");
     if (!configured_) {
       configure_ksp(ksp_, s_, symmetric_);
       configured_ = true;
     }
-    set_owned(b_, r);
-    const PetscErrorCode code = KSPSolve(ksp_, b_, x_);
+    const PetscErrorCode code = KSPSolve(ksp_, b, x);
     if (code != 0) {
       const char* text = nullptr;
       PetscErrorMessage(code, &text, nullptr);
@@ -592,9 +806,6 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (reason < 0)
       throw SolverError(fmt::format("linear solver {}: the Krylov solver did not converge ({} after {} iterations)",
                                     s_.type, KSPConvergedReasons[reason], its));
-    gather(x_, du);
-    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
-    return s_.type;
   }
 
   void begin_cells() override {
@@ -625,6 +836,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
  private:
   void destroy() {
     if (A_) MatDestroy(&A_);
+    if (T_) MatDestroy(&T_);
+    if (Kr_) MatDestroy(&Kr_);
+    T_pattern_.clear();
     if (b_) VecDestroy(&b_);
     if (x_) VecDestroy(&x_);
     if (x_all_) VecDestroy(&x_all_);
@@ -751,7 +965,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::vector<Index> row_, unknown_;         // the analysis' unknown -> PETSc row, and back
   const std::vector<Vec3>* X_ = nullptr;     // the nodes' reference coordinates
   std::unordered_map<const ElementBlock*, std::vector<int>> part_;  // each cell's rank
-  Mat A_ = nullptr;
+  Index nodal_ = 0;                          // the nodes' DOFs (the unknowns before the extras)
+  std::map<std::pair<Index, Index>, Real> extra_;  // entries in an extra unknown's row or column
+  std::vector<PetscInt> T_pattern_;          // T's pattern, this rank's rows (count, columns)
+  Mat A_ = nullptr, T_ = nullptr, Kr_ = nullptr;  // J; the condensation's T and T^T J T
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
   VecScatter gather_ = nullptr;
   KSP ksp_ = nullptr;
