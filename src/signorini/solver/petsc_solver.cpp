@@ -751,10 +751,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     const double t_rhs = timer.seconds();
     try {
       krylov(Kr_, rr, w);  // u~
-      log::debug("    condensed on {} ranks: {} closed, {} open; T {:.2f} s, T^T J T {:.2f} s, diagonal and right-hand "
-                 "side {:.2f} s, Krylov {:.2f} s ({} iterations)",
-                 size_, closed.size(), open.size(), t_plan, t_ptap - t_plan, t_rhs - t_ptap, timer.seconds() - t_rhs,
-                 iterations_);
+      log::debug("    condensed on {} ranks: {} closed, {} open; T {:.2f} s, T^T J T {:.2f} s ({}), diagonal and "
+                 "right-hand side {:.2f} s, Krylov {:.2f} s ({} iterations)",
+                 size_, closed.size(), open.size(), t_plan, t_ptap - t_plan, same ? "updated in place" : "new pattern",
+                 t_rhs - t_ptap, timer.seconds() - t_rhs, iterations_);
     } catch (...) {
       VecDestroy(&w);
       VecDestroy(&rr);
