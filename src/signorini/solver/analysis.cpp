@@ -291,22 +291,19 @@ void Analysis::rebuild_pattern() {
   if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
   backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
-  if (backend_->ranks() > 1 && owned_cells_.empty())
+  if (backend_->ranks() > 1 && owned_cells_.empty()) {  // the partition is made once
+    Index mine = 0, all = 0;
     for (auto& b : model_.bodies) {
       owned_cells_.emplace_back();
       for (const ElementBlock& blk : b->blocks()) {
         owned_cells_.back().emplace_back(static_cast<size_t>(blk.size()));
-        for (Index e = 0; e < blk.size(); ++e)
+        for (Index e = 0; e < blk.size(); ++e) {
           owned_cells_.back().back()[e] = backend_->cell_owner(&blk, e) == backend_->rank();
+          mine += owned_cells_.back().back()[e];
+        }
+        all += blk.size();
       }
     }
-  if (!owned_cells_.empty()) {
-    Index mine = 0, all = 0;
-    for (const auto& body : owned_cells_)
-      for (const auto& blk : body) {
-        mine += std::count(blk.begin(), blk.end(), 1);
-        all += static_cast<Index>(blk.size());
-      }
     log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
                backend_->owned_begin(), backend_->owned_end());
   }
