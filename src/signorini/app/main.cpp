@@ -88,7 +88,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
                      fmt::format("this run has {} MPI ranks: the linear solver must be one that PETSc distributes "
                                  "(gamg, hypre, mumps or petsc), not '{}'",
                                  ranks, model.linear_solver.type));
-  ResultsWriter writer(model, dir, rank == 0);
+  ResultsWriter writer(model, dir, rank);
   Analysis analysis(model);
   if (!restart.empty()) {
     analysis.read_restart(restart);

@@ -298,7 +298,7 @@ Real Body::volume(const std::vector<Vec3>& X) const {
 }
 
 CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
-                          const QuadratureHistory* history) const {
+                          const QuadratureHistory* history, const std::vector<std::vector<char>>* owned) const {
   CellResults r;
   if (rigid()) {
     // Rigid cells: no strain, and their stress is not defined by a constitutive law (zero).
@@ -316,9 +316,9 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
     const BlockCache& c = caches_[bi];
     const Index nq = static_cast<Index>(c.rule.size());
     const Index start = static_cast<Index>(r.stress.size());
-    r.stress.resize(start + b.size());
-    r.strain.resize(start + b.size());
-    r.von_mises.resize(start + b.size());
+    r.stress.resize(start + b.size(), Vec6::Zero());
+    r.strain.resize(start + b.size(), Vec6::Zero());
+    r.von_mises.resize(start + b.size(), 0.0);
 #pragma omp parallel
     {
       std::vector<Vec3> Xe;
@@ -327,6 +327,7 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
       std::vector<Real> hnew(nq * hs);
 #pragma omp for schedule(static)
       for (Index e = 0; e < b.size(); ++e) {
+        if (owned && !(*owned)[bi][e]) continue;
         gather(b, e, X, u, dofs, Xe, ue, edofs);
         Vec6 s, eps;
         element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? hnew.data() : nullptr, fe, nullptr, &s,

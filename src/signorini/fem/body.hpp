@@ -74,8 +74,11 @@ class Body {
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const std::function<Vec3(const Vec3&)>& b,
                       Real scale, VecX& fext) const;
   // Per-cell averages of stress and strain at the state `u` (from the committed history).
+  // `owned` (an MPI rank's piece of the output): per block, the cells to evaluate (null: all);
+  // the others' entries stay zero.
   CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
-                      const QuadratureHistory* history = nullptr) const;
+                      const QuadratureHistory* history = nullptr,
+                      const std::vector<std::vector<char>>* owned = nullptr) const;
   // Quadrature points per element of block b (the history's layout).
   Index points_per_element(size_t b) const { return static_cast<Index>(caches_[b].rule.size()); }
   // Reference volume (area times thickness, or with 2 pi r in axisymmetry).

@@ -160,15 +160,16 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
   return out;
 }
 
-ResultsWriter::ResultsWriter(const Model& model, std::string directory, bool enabled)
-    : model_(model), dir_(std::move(directory)), enabled_(enabled) {
-  if (!enabled_) return;
+ResultsWriter::ResultsWriter(const Model& model, std::string directory, int rank)
+    : model_(model), dir_(std::move(directory)), shared_(rank == 0) {
+  if (!shared_) return;
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw Error("cannot create the output directory '" + dir_ + "': " + ec.message());
   // Old VTU files of a previous run would mix with this one's in ParaView.
   for (auto& e : std::filesystem::directory_iterator(dir_))
-    if ((e.path().extension() == ".vtu" && e.path().filename().string().rfind("increment_", 0) == 0) ||
+    if (((e.path().extension() == ".vtu" || e.path().extension() == ".pvtu") &&
+         e.path().filename().string().rfind("increment_", 0) == 0) ||
         ((e.path().extension() == ".csv" || e.path().extension() == ".vtu" || e.path().extension() == ".pvd") &&
          e.path().filename().string().rfind("contact_", 0) == 0))
       std::filesystem::remove(e.path(), ec);
@@ -177,6 +178,10 @@ ResultsWriter::ResultsWriter(const Model& model, std::string directory, bool ena
 
 void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   const Model& m = model_;
+  // Under mpirun with the cells shared out, each rank evaluates and writes the piece of its
+  // own cells, and rank 0 a .pvtu that joins the pieces; otherwise rank 0 writes one .vtu.
+  const bool pieces = a.ranks() > 1 && a.owned_cells(0) != nullptr;
+  if (!pieces && !shared_) return;
   const DofMap& dofs = a.dofs();
   const int dim = dofs.dofs_per_node();
   VtuData d;
@@ -199,7 +204,10 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
       disp.values[3 * n + i] = turns[n] ? xcur[n](i) - m.mesh.nodes[n](i) : a.displacement()(k);
       reac.values[3 * n + i] = a.reactions()(k);
     }
-  d.point_fields = {disp, reac};
+  // The ids the mesh file gives the nodes and cells (Gmsh tags), for finding them in ParaView.
+  VtuField node_id{"node_id", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
+  for (Index n = 0; n < m.mesh.num_nodes(); ++n) node_id.values[n] = static_cast<Real>(m.mesh.node_ids[n]);
+  d.point_fields = {disp, reac, node_id};
   if (!a.contacts().empty()) {
     // Contact state on the slave nodes (status: -1 not a slave node, 0 no master within
     // reach, 1 open, 2 closed); pressure positive in compression.
@@ -216,25 +224,33 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     d.point_fields.push_back(pres);
     d.point_fields.push_back(status);
   }
+  // The cells written: all, or this rank's piece.
+  auto kept = [&](size_t bi, size_t blk, Index e) {
+    const auto* owned = pieces ? a.owned_cells(bi) : nullptr;
+    return !owned || (*owned)[blk][e];
+  };
   // ParaView's symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ (ours: 11 22 33 23 13 12).
   const int order[6] = {0, 1, 2, 5, 3, 4};
   const std::vector<std::string> names{"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
   VtuField stress{"stress", 6, {}, names}, strain{"strain", 6, {}, names}, vm{"von_mises", 1, {}, {}},
-      body{"body", 1, {}, {}};
+      body{"body", 1, {}, {}}, cell_id{"cell_id", 1, {}, {}};
   for (size_t bi = 0; bi < m.bodies.size(); ++bi) {
     const Body& b = *m.bodies[bi];
-    CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs, &a.history(bi));
-    for (size_t e = 0; e < r.stress.size(); ++e) {
-      for (int k = 0; k < 6; ++k) {
-        stress.values.push_back(r.stress[e](order[k]));
-        strain.values.push_back(r.strain[e](order[k]));
+    CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs, &a.history(bi), pieces ? a.owned_cells(bi) : nullptr);
+    size_t c = 0;
+    for (size_t blk = 0; blk < b.blocks().size(); ++blk)
+      for (Index e = 0; e < b.blocks()[blk].size(); ++e, ++c) {
+        if (!kept(bi, blk, e)) continue;
+        for (int k = 0; k < 6; ++k) {
+          stress.values.push_back(r.stress[c](order[k]));
+          strain.values.push_back(r.strain[c](order[k]));
+        }
+        vm.values.push_back(r.von_mises[c]);
+        body.values.push_back(static_cast<Real>(bi));
+        cell_id.values.push_back(static_cast<Real>(b.blocks()[blk].ids[e]));
       }
-      vm.values.push_back(r.von_mises[e]);
-      body.values.push_back(static_cast<Real>(bi));
-    }
-    for (auto& blk : b.blocks()) d.cells.push_back(&blk);
   }
-  d.cell_fields = {stress, strain, vm, body};
+  d.cell_fields = {stress, strain, vm, body, cell_id};
   // The materials' history variables by their names (per cell, the mean over its quadrature
   // points of the committed state; 0 in the cells of bodies whose material has no such value).
   std::vector<std::string> hnames;
@@ -251,6 +267,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
       for (size_t blk = 0; blk < b.blocks().size(); ++blk) {
         const Index nq = b.points_per_element(blk);
         for (Index e = 0; e < b.blocks()[blk].size(); ++e) {
+          if (!kept(bi, blk, e)) continue;
           Real mean = 0;
           if (k != names.end() && !h.empty()) {
             const Real* v = h.committed(blk, e);
@@ -263,23 +280,96 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     }
     d.cell_fields.push_back(f);
   }
-  const std::string name = fmt::format("increment_{:02d}_{:04d}.vtu", step + 1, inc);
-  write_file_atomically(dir_ + "/" + name, vtu_text(d));
+  const std::string stem = fmt::format("increment_{:02d}_{:04d}", step + 1, inc);
+  std::string name = stem + ".vtu";
+  if (!pieces) {
+    for (auto& b : m.bodies)
+      for (auto& blk : b->blocks()) d.cells.push_back(&blk);
+    write_file_atomically(dir_ + "/" + name, vtu_text(d));
+  } else {
+    // This rank's piece: its cells, and the nodes they use numbered in order (rank 0's piece
+    // also carries the nodes that no cell uses, such as a rigid body's reference node).
+    std::vector<Index> local(m.mesh.num_nodes(), -1);
+    std::vector<Vec3> pts;
+    std::vector<Index> global;
+    auto use = [&](Index n) {
+      if (local[n] >= 0) return;
+      local[n] = static_cast<Index>(pts.size());
+      pts.push_back(m.mesh.nodes[n]);
+      global.push_back(n);
+    };
+    std::vector<ElementBlock> blocks;
+    std::vector<char> in_cells(m.mesh.num_nodes(), 0);
+    for (size_t bi = 0; bi < m.bodies.size(); ++bi)
+      for (size_t blk = 0; blk < m.bodies[bi]->blocks().size(); ++blk) {
+        const ElementBlock& src = m.bodies[bi]->blocks()[blk];
+        ElementBlock piece{src.type, {}, {}};
+        const int nn = src.nodes_per_element();
+        for (Index e = 0; e < src.size(); ++e) {
+          for (int k = 0; k < nn; ++k) in_cells[src.element(e)[k]] = 1;
+          if (!kept(bi, blk, e)) continue;
+          for (int k = 0; k < nn; ++k) {
+            use(src.element(e)[k]);
+            piece.conn.push_back(local[src.element(e)[k]]);
+          }
+          piece.ids.push_back(src.ids[e]);
+        }
+        if (piece.size()) blocks.push_back(std::move(piece));
+      }
+    if (a.rank() == 0)
+      for (Index n = 0; n < m.mesh.num_nodes(); ++n)
+        if (!in_cells[n]) use(n);
+    for (VtuField& f : d.point_fields) {
+      std::vector<Real> v;
+      v.reserve(global.size() * f.components);
+      for (Index n : global) v.insert(v.end(), f.values.begin() + n * f.components, f.values.begin() + (n + 1) * f.components);
+      f.values = std::move(v);
+    }
+    d.points = &pts;
+    for (auto& b : blocks) d.cells.push_back(&b);
+    // A write that fails on one rank stops them all, with its message; and no rank goes on
+    // (rank 0 to list the piece in the .pvd) before every piece is on disk.
+    std::string failure;
+    try {
+      write_file_atomically(fmt::format("{}/{}_{}.vtu", dir_, stem, a.rank()), vtu_text(d));
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    if (a.any_rank_failed(failure)) throw Error(failure);
+    name = stem + ".pvtu";
+    if (shared_) {
+      std::vector<std::string> files;
+      for (int r = 0; r < a.ranks(); ++r) files.push_back(fmt::format("{}_{}.vtu", stem, r));
+      write_file_atomically(dir_ + "/" + name, pvtu_text(d, files));
+    }
+  }
   pvd_.emplace_back(time, name);
+  if (!shared_) return;
   write_file_atomically(pvd_path(), pvd_text(pvd_));
   if (step >= 0) write_contact_vtu(a, time, step, inc);
 }
 
 void ResultsWriter::write_initial(const Analysis& a) {
-  if (!enabled_) return;
-  write_file_atomically(dir_ + "/reactions.csv", csv_);
+  // Rank 0 has emptied the folder of a previous run's files before any rank writes a piece.
+  std::string none;
+  a.any_rank_failed(none);
+  if (shared_) write_file_atomically(dir_ + "/reactions.csv", csv_);
   // The state the run starts from: undeformed, or a restart's (at the time it was written).
   if (model_.output.vtu != "none") write_vtu(a, static_cast<Real>(a.first_step()), -1, 0);
-  write_json(a, a.summary(), "running", {});
+  if (shared_) write_json(a, a.summary(), "running", {});
 }
 
 void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& rec) {
-  if (!enabled_) return;
+  if (shared_) write_tables(a, rec);
+  const bool step_end = rec.fraction >= 1.0;
+  if (model_.output.vtu == "every_increment" || (model_.output.vtu == "last" && step_end))
+    write_vtu(a, rec.time, rec.step, rec.increment);
+  last_record_ = rec;
+  have_last_ = true;
+  if (shared_) write_json(a, a.summary(), "running", {});
+}
+
+void ResultsWriter::write_tables(const Analysis& a, const IncrementRecord& rec) {
   for (auto& set : a.reaction_sets()) {
     Vec3 r = a.reaction_sum(set);
     csv_ += fmt::format("{},{},{:.10g},{:.10g},{},{:.10e},{:.10e},{:.10e}\n", rec.step + 1, rec.increment, rec.time,
@@ -311,12 +401,6 @@ void ResultsWriter::write_increment(const Analysis& a, const IncrementRecord& re
   }
   write_file_atomically(dir_ + "/reactions.csv", csv_);
   write_contact_csv(a, rec);
-  const bool step_end = rec.fraction >= 1.0;
-  if (model_.output.vtu == "every_increment" || (model_.output.vtu == "last" && step_end))
-    write_vtu(a, rec.time, rec.step, rec.increment);
-  last_record_ = rec;
-  have_last_ = true;
-  write_json(a, a.summary(), "running", {});
 }
 
 namespace {
@@ -397,10 +481,10 @@ void ResultsWriter::write_contact_csv(const Analysis& a, const IncrementRecord& 
 }
 
 void ResultsWriter::finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks) {
-  if (!enabled_) return;
   // With vtu: last, a failed run still leaves its last converged state on disk.
   if (!s.completed && model_.output.vtu == "last" && have_last_ && last_record_.fraction < 1.0)
     write_vtu(a, last_record_.time, last_record_.step, last_record_.increment);
+  if (!shared_) return;
   write_json(a, s, s.completed ? "completed" : s.interrupted ? "interrupted" : "failed", checks);
 }
 

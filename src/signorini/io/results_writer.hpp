@@ -27,8 +27,10 @@ Real separating_radius(std::vector<std::pair<Real, bool>> points);
 
 class ResultsWriter {
  public:
-  // `enabled` false: writes nothing (the ranks other than 0 of an MPI run).
-  ResultsWriter(const Model& model, std::string directory, bool enabled = true);
+  // `rank`: the MPI rank. Rank 0 writes every file; under mpirun with the cells shared out,
+  // each other rank writes the ParaView piece of its own cells (every rank then calls these
+  // functions at the same points: a piece's write is collective).
+  ResultsWriter(const Model& model, std::string directory, int rank = 0);
   // The initial (undeformed) state at time 0, so every run has a PVD and a CSV from the start.
   void write_initial(const Analysis& a);
   void write_increment(const Analysis& a, const IncrementRecord& rec);
@@ -40,6 +42,8 @@ class ResultsWriter {
 
  private:
   void write_vtu(const Analysis& a, Real time, int step, int inc);
+  // reactions.csv and the contact CSVs of an increment.
+  void write_tables(const Analysis& a, const IncrementRecord& rec);
   void write_contact_csv(const Analysis& a, const IncrementRecord& rec);
   // The slave surface of each pair as its own mesh (facets as cells) with gap, pressure and
   // status, in contact_<pair>.pvd.
@@ -53,7 +57,7 @@ class ResultsWriter {
   std::string csv_;
   IncrementRecord last_record_;
   bool have_last_ = false;
-  bool enabled_ = true;
+  bool shared_ = true;  // rank 0: writes the files that are not a rank's piece
 };
 
 }  // namespace signorini

@@ -68,6 +68,30 @@ std::string vtu_text(const VtuData& d) {
   return out;
 }
 
+std::string pvtu_text(const VtuData& d, const std::vector<std::string>& pieces) {
+  auto arrays = [](const std::vector<VtuField>& fields) {
+    std::string s;
+    for (auto& f : fields) {
+      s += fmt::format(R"(<PDataArray type="Float64" Name="{}" NumberOfComponents="{}")", f.name, f.components);
+      for (size_t i = 0; i < f.component_names.size(); ++i) s += fmt::format(R"( ComponentName{}="{}")", i, f.component_names[i]);
+      s += "/>\n";
+    }
+    return s;
+  };
+  std::string s = "<?xml version=\"1.0\"?>\n";
+  s += "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+  s += "<PUnstructuredGrid GhostLevel=\"0\">\n";
+  s += "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
+  s += "<PCells>\n<PDataArray type=\"Int64\" Name=\"connectivity\" NumberOfComponents=\"1\"/>\n"
+       "<PDataArray type=\"Int64\" Name=\"offsets\" NumberOfComponents=\"1\"/>\n"
+       "<PDataArray type=\"UInt8\" Name=\"types\" NumberOfComponents=\"1\"/>\n</PCells>\n";
+  s += "<PPointData>\n" + arrays(d.point_fields) + "</PPointData>\n";
+  s += "<PCellData>\n" + arrays(d.cell_fields) + "</PCellData>\n";
+  for (auto& p : pieces) s += fmt::format("<Piece Source=\"{}\"/>\n", p);
+  s += "</PUnstructuredGrid>\n</VTKFile>\n";
+  return s;
+}
+
 std::string pvd_text(const std::vector<std::pair<Real, std::string>>& entries) {
   std::string s = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n";
   for (auto& [t, f] : entries) s += fmt::format("  <DataSet timestep=\"{:.10g}\" part=\"0\" file=\"{}\"/>\n", t, f);

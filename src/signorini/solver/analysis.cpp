@@ -663,6 +663,10 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   if (view_p.count(nd)) log::info("      at +h:{}\n      at -h:{}", view_p.at(nd), view_m.at(nd));
 }
 
+int Analysis::rank() const { return backend_->rank(); }
+int Analysis::ranks() const { return backend_->ranks(); }
+bool Analysis::any_rank_failed(std::string& message) const { return backend_->any_failed(message); }
+
 Index Analysis::node_of_unknown(Index unknown) const {
   if (unknown < 0 || unknown >= dofs_.num_dofs()) return -1;
   for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)

@@ -90,6 +90,18 @@ class Analysis {
   const DofMap& dofs() const { return dofs_; }
   // How the algebra is shared between MPI ranks: "serial", or a sentence (main prints it).
   const std::string& algebra() const { return algebra_; }
+  // Partitioned assembly under mpirun: this rank, the number of ranks, and per block of body
+  // `b` the cells this rank owns (null when the cells are not shared out: one rank, or the
+  // algebra replicated).
+  int rank() const;
+  int ranks() const;
+  const std::vector<std::vector<char>>* owned_cells(size_t b) const {
+    return owned_cells_.empty() ? nullptr : &owned_cells_[b];
+  }
+  // Collective under mpirun (every rank calls it at the same point): whether any rank reports
+  // a failure (its `message` not empty); the lowest such rank's message is then in `message`
+  // on every rank. One rank: whether `message` is not empty.
+  bool any_rank_failed(std::string& message) const;
   // Unknowns: the displacement DOFs, then the contact multipliers.
   Index num_unknowns() const { return static_cast<Index>(u_.size()); }
   const std::vector<std::unique_ptr<ContactInterface>>& contacts() const { return contacts_; }
