@@ -6,7 +6,8 @@ quadrature-point history of plastic bodies, which with partitioned assembly each
 for its own cells only) must agree too, to `tolerance` relative to each field's largest value.
 With ALGEBRA ("partitioned" or "replicated"), summary.json must say that the N ranks shared the
 algebra that way.
-Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA]"""
+With PARTITION (rcb or ptscotch), the N ranks share the cells out that way (solver.linear.partition).
+Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
 import glob
 import json
 import os
@@ -18,6 +19,7 @@ import sys
 
 signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
 expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
+partition = sys.argv[8] if len(sys.argv) > 8 else "rcb"
 ranks, tolerance = int(ranks), float(tolerance)
 os.makedirs(work, exist_ok=True)
 with open(deck) as f:
@@ -26,7 +28,7 @@ with open(deck) as f:
 folder = os.path.dirname(os.path.abspath(deck))
 text = text.replace("file: ", "file: " + folder + "/", 1)
 text = "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
-text += "\nsolver: {linear: {type: %s, rtol: 1e-10}}\n" % linear
+text += "\nsolver: {linear: {type: %s, rtol: 1e-10, partition: %s}}\n" % (linear, partition)
 copy = os.path.join(work, "deck.yaml")
 with open(copy, "w") as f:
     f.write(text)
@@ -56,6 +58,9 @@ assert one["mpi_ranks"] == 1 and many["mpi_ranks"] == ranks, (one["mpi_ranks"], 
 assert log.count("Solved") == 1, "rank 0 alone should print the summary:\n" + log
 if expected_algebra:
     assert many["algebra"].startswith(expected_algebra), many["algebra"]
+    if expected_algebra == "partitioned":
+        shared_by = {"rcb": "coordinate bisection", "ptscotch": "PT-Scotch"}[partition]
+        assert many["algebra"].endswith("cells shared out by %s)" % shared_by), many["algebra"]
 
 
 def read_vtu(path):

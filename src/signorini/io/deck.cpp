@@ -895,6 +895,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
     m.linear_solver.type = l.text(ls, "type");
     m.linear_solver.rtol = l.number(ls, "rtol");
     m.linear_solver.options = l.text(ls, "options");
+    m.linear_solver.partition = l.text(ls, "partition");
   } else if (n.has("linear")) {
     const Node c = n.child("linear");
     const ParamSpec* p = deck_spec(r, "linear").param("type");

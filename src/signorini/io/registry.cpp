@@ -392,7 +392,11 @@ void register_deck_sections(Registry& r) {
          {choice("type", "the solver (see 'describe auto', 'describe gamg' etc.)", solvers, "auto"),
           number("rtol", "gamg, hypre, petsc: relative residual of the Krylov iterations", "1e-8", 0, 1, true, true),
           text("options", "gamg, hypre, mumps, petsc: raw PETSc options, e.g. \"-ksp_monitor -pc_gamg_threshold 0.02\"",
-               "\"\"")}});
+               "\"\""),
+          choice("partition",
+                 "under mpirun, how the cells are shared out between the ranks: rcb (recursive coordinate bisection of "
+                 "their centroids) or ptscotch (PT-Scotch's cut of the cells' graph, through PETSc)",
+                 {"rcb", "ptscotch"}, "rcb")}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
          {text("linear", "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, options} (see 'describe "
                          "linear')", "auto", ParamKind::any),

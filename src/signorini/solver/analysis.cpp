@@ -233,8 +233,9 @@ void Analysis::choose_algebra() {
 #ifdef SIGNORINI_HAVE_PETSC
   backend_ = make_petsc_backend(model_.linear_solver);
   backend_->set_coordinates(&model_.mesh.nodes);
-  algebra_ = fmt::format("partitioned over {} ranks (each assembles its own cells into its rows of one PETSc matrix)",
-                         ranks);
+  algebra_ = fmt::format("partitioned over {} ranks (each assembles its own cells into its rows of one PETSc matrix; "
+                         "cells shared out by {})",
+                         ranks, model_.linear_solver.partition == "ptscotch" ? "PT-Scotch" : "coordinate bisection");
 #endif
 }
 

@@ -20,6 +20,8 @@ struct LinearSolverSettings {
   std::string type = "auto";
   Real rtol = 1e-8;
   std::string options;
+  // Under mpirun: how the cells are shared out between the ranks (rcb, ptscotch).
+  std::string partition = "rcb";
   LinearSolverSettings() = default;
   LinearSolverSettings(const char* t) : type(t) {}  // NOLINT: a bare name is a type
   LinearSolverSettings(std::string t) : type(std::move(t)) {}  // NOLINT

@@ -432,7 +432,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     const int ndpn = std::max(dofs.dofs_per_node(), 1);
     bs_ = ndpn;
     padded_ = (n_ + bs_ - 1) / bs_ * bs_;
-    if (part_.empty()) partition(cells);
+    if (part_.empty()) {
+      if (s_.partition == "ptscotch") graph_partition(cells);
+      else partition(cells);
+    }
     number(dofs, cells);
     rstart_ = starts_[rank_];
     rend_ = starts_[rank_ + 1];
@@ -923,23 +926,107 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     bisect(0, items.size(), 0, size_);
   }
 
+  // Graph partition (PETSc's MatPartitioning with PT-Scotch, Pellegrini & Chevalier 2008):
+  // the cells' dual graph, two cells adjacent when they share as many corner nodes as their
+  // dimension (a facet of simplices, and of most hexahedra and quadrilaterals), cut into one
+  // part per rank with the fewest cut edges. Each rank gives PETSc a contiguous block of the
+  // graph's rows; the parts are gathered on every rank.
+  void graph_partition(const std::vector<const ElementBlock*>& cells) {
+    std::vector<std::pair<const ElementBlock*, Index>> where;
+    for (const ElementBlock* b : cells) {
+      part_[b].assign(static_cast<size_t>(b->size()), 0);
+      for (Index e = 0; e < b->size(); ++e) where.emplace_back(b, e);
+    }
+    const Index n = static_cast<Index>(where.size());
+    // The cells of each corner node (CSR).
+    Index nodes = 0;
+    for (const ElementBlock* b : cells)
+      for (Index v : b->conn) nodes = std::max(nodes, v + 1);
+    std::vector<Index> start(static_cast<size_t>(nodes) + 1, 0), list;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<Index> fill(start.begin(), start.end() - 1);
+      if (pass == 1) list.resize(static_cast<size_t>(start.back()));
+      for (Index c = 0; c < n; ++c) {
+        const auto [b, e] = where[c];
+        const int corners = element_info(b->type).num_corners;
+        for (int a = 0; a < corners; ++a) {
+          const Index v = b->element(e)[a];
+          if (pass == 0) ++start[v + 1];
+          else list[fill[v]++] = c;
+        }
+      }
+      if (pass == 0)
+        for (Index v = 0; v < nodes; ++v) start[v + 1] += start[v];
+    }
+    const Index lo = n * rank_ / size_, hi = n * (rank_ + 1) / size_;
+    PetscInt *ia = nullptr, *ja = nullptr;
+    std::vector<PetscInt> adjacency;
+    std::vector<PetscInt> offsets{0};
+    std::unordered_map<Index, int> shared;
+    for (Index c = lo; c < hi; ++c) {
+      const auto [b, e] = where[c];
+      const ElementInfo& info = element_info(b->type);
+      shared.clear();
+      for (int a = 0; a < info.num_corners; ++a) {
+        const Index v = b->element(e)[a];
+        for (Index k = start[v]; k < start[v + 1]; ++k)
+          if (list[k] != c) ++shared[list[k]];
+      }
+      const size_t first = adjacency.size();
+      for (auto [d, count] : shared)
+        if (count >= info.dim) adjacency.push_back(static_cast<PetscInt>(d));
+      std::sort(adjacency.begin() + static_cast<std::ptrdiff_t>(first), adjacency.end());
+      offsets.push_back(static_cast<PetscInt>(adjacency.size()));
+    }
+    // MatCreateMPIAdj takes arrays from PetscMalloc and frees them with the matrix.
+    check(PetscMalloc1(offsets.size(), &ia), "PetscMalloc");
+    check(PetscMalloc1(std::max<size_t>(adjacency.size(), 1), &ja), "PetscMalloc");
+    std::copy(offsets.begin(), offsets.end(), ia);
+    std::copy(adjacency.begin(), adjacency.end(), ja);
+    Mat graph = nullptr;
+    check(MatCreateMPIAdj(PETSC_COMM_WORLD, static_cast<PetscInt>(hi - lo), static_cast<PetscInt>(n), ia, ja, nullptr,
+                          &graph),
+          "MatCreateMPIAdj");
+    MatPartitioning mp = nullptr;
+    IS mine = nullptr, all = nullptr;
+    check(MatPartitioningCreate(PETSC_COMM_WORLD, &mp), "MatPartitioningCreate");
+    check(MatPartitioningSetAdjacency(mp, graph), "MatPartitioningSetAdjacency");
+    check(MatPartitioningSetNParts(mp, size_), "MatPartitioningSetNParts");
+    check(MatPartitioningSetType(mp, MATPARTITIONINGPTSCOTCH), "MatPartitioningSetType");
+    check(MatPartitioningApply(mp, &mine), "MatPartitioningApply (PT-Scotch)");
+    check(ISAllGather(mine, &all), "ISAllGather");
+    const PetscInt* p = nullptr;
+    check(ISGetIndices(all, &p), "ISGetIndices");
+    for (Index c = 0; c < n; ++c) part_[where[c].first][where[c].second] = static_cast<int>(p[c]);
+    ISRestoreIndices(all, &p);
+    ISDestroy(&all);
+    ISDestroy(&mine);
+    MatPartitioningDestroy(&mp);
+    MatDestroy(&graph);
+  }
+
   // PETSc's numbering: a node block belongs to the lowest rank among its cells' (nodes in no
   // cell: the last rank); rank 0's blocks come first, then rank 1's, ..., each rank's in the
   // analysis' order; the unknowns after the nodes' last stay where they are.
   void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
     const int ndpn = bs_;
     const Index slots = dofs.num_dofs() / ndpn;
-    std::vector<int> owner(static_cast<size_t>(slots), size_ - 1);
+    std::vector<int> owner(static_cast<size_t>(slots), size_ - 1), last(static_cast<size_t>(slots), -1);
     for (const ElementBlock* b : cells)
       for (Index e = 0; e < b->size(); ++e) {
         const int r = cell_owner(b, e);
         const Index* c = b->element(e);
         for (int a = 0; a < b->nodes_per_element(); ++a)
           if (dofs.has_dofs(c[a])) {
-            int& o = owner[dofs.dof(c[a], 0) / ndpn];
-            o = std::min(o, r);
+            const Index k = dofs.dof(c[a], 0) / ndpn;
+            owner[k] = std::min(owner[k], r);
+            last[k] = std::max(last[k], r);
           }
       }
+    // The nodes on a cut (in the cells of two ranks or more): the rows whose entries travel.
+    Index cut = 0;
+    for (Index k = 0; k < slots; ++k) cut += last[k] > owner[k];
+    log::debug("cells shared out by {}: {} of {} nodes on a cut", s_.partition, cut, slots);
     std::vector<Index> slot(static_cast<size_t>(slots), -1);
     Index next = 0;
     starts_.assign(static_cast<size_t>(size_) + 1, 0);
