@@ -139,6 +139,7 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
     r.swapped = false;
     r.friction_hold = StickSlip::none;
     r.last_slip = r.committed_friction == StickSlip::slip;
+    r.feature_changes = 0;
   }
   frozen_reported_ = 0;
   enforcement_->begin_increment(nodes_);
@@ -280,6 +281,29 @@ void ContactInterface::count_status_changes() {
         // Once per node, held in both its statuses at the same iteration.
         if (newly_frozen.empty() || newly_frozen.back() != slave_.nodes[j]) newly_frozen.push_back(slave_.nodes[j]);
       }
+    }
+  }
+  // Closed nodes whose master feature (facet, edge or vertex) changed at this iterate.
+  if (log::level() <= log::Level::debug) {
+    std::vector<Index> moved;
+    for (size_t j = 0; j < state_.active.size() && j < constraints_.size(); ++j) {
+      NodeRecord& r = nodes_[j];
+      const int kind = static_cast<int>(constraints_[j].kind);
+      const Index facet = constraints_[j].facet;
+      if (state_.active[j] && r.last_kind >= 0 && (kind != r.last_kind || facet != r.last_facet)) {
+        ++r.feature_changes;
+        moved.push_back(j);
+      }
+      r.last_kind = kind;
+      r.last_facet = facet;
+    }
+    if (!moved.empty()) {
+      std::string ids;
+      for (size_t k = 0; k < moved.size() && k < 8; ++k)
+        ids += fmt::format("{}{} ({} changes)", k ? ", " : "", (*node_ids_)[slave_.nodes[moved[k]]],
+                           nodes_[moved[k]].feature_changes);
+      log::debug("contact '{}': {} closed slave node(s) met another master facet, edge or vertex (mesh nodes {}{})",
+                 label_, moved.size(), ids, moved.size() > 8 ? ", ..." : "");
     }
   }
   if (!newly_frozen.empty()) {

@@ -41,6 +41,13 @@ struct NodeRecord {
   bool last_slip = false, swapped = false;
   StickSlip friction_hold = StickSlip::none;
   StickSlip committed_friction = StickSlip::none;
+  // The master feature the node met at the last accepted iterate (its constraint's kind and
+  // facet), and how often it changed in this increment (a diagnosis: -v logs the nodes that
+  // move between master facets while the statuses hold, which is how Newton cycles across a
+  // jump of the faceted surface's normal).
+  int last_kind = -1;
+  Index last_facet = -1;
+  int feature_changes = 0;
   // Friction: where the slip of the increment is measured from, the tangential traction the
   // return map starts from (penalty; the committed one, or the augmented Lagrangian's last
   // update) and the committed one, and the slip record for output.
