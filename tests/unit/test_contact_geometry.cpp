@@ -391,6 +391,47 @@ TEST(ContactDetection, NoBlindSpotsAtMasterCorners) {
   EXPECT_NEAR(cs[1].gap, 0.03, 1e-12);
 }
 
+TEST(ContactDetection, HeldFacetKeepsItsNodeUpToItsTolerance) {
+  // Two master facets meeting with a small kink at the origin: A from (0,0) to (-1,0), normal
+  // +y, and B from (1,0.05) to (0,0), normal about +y. A node just right of the kink, 0.01
+  // below, projects inside B and 2 % of A beyond A's end (A accepts 1 % when the closest facet
+  // is chosen): B is its facet. Held on A (it went back and forth between A and B), it keeps A
+  // up to kHeldFacetTolerance beyond A's end, with A's gap; farther, B again.
+  std::vector<Vec3> x{Vec3(-1, 0, 0), Vec3(0, 0, 0), Vec3(1, 0.05, 0), Vec3::Zero(), Vec3::Zero()};
+  MasterSurface master;
+  master.type = {ElementType::line2, ElementType::line2};
+  master.facets = {{1, 0}, {2, 1}};
+  master.node_facets.resize(5);
+  master.node_facets[0] = {0};
+  master.node_facets[1] = {0, 1};
+  master.node_facets[2] = {1};
+  master.nodes = {0, 1, 2};
+  SlaveSurface slave;
+  slave.nodes = {3, 4};
+  slave.weights = {1, 1};
+  x[3] = Vec3(0.02, -0.01, 0);                              // 2 % beyond A
+  x[4] = Vec3(1.5 * kHeldFacetTolerance, -0.01, 0);         // 15 % beyond A
+  const Vec3 nb = Vec3(-0.05, 1, 0).normalized();
+  ConstraintSet cs;
+  node_to_segment(master, slave, x, 2, {0, 0}, cs);
+  ASSERT_EQ(cs[0].kind, ConstraintKind::segment);
+  EXPECT_EQ(cs[0].facet, 1);
+  EXPECT_NEAR(cs[0].gap, nb.dot(x[3]), 1e-12);
+  EXPECT_EQ(cs[1].facet, 1);
+  const std::vector<Index> held{0, 0};
+  node_to_segment(master, slave, x, 2, {0, 0}, cs, nullptr, &held);
+  ASSERT_EQ(cs[0].kind, ConstraintKind::segment);
+  EXPECT_EQ(cs[0].facet, 0);
+  EXPECT_NEAR(cs[0].gap, -0.01, 1e-12);  // on A's plane, y = 0
+  EXPECT_NEAR(cs[0].normal.y(), 1, 1e-12);
+  EXPECT_EQ(cs[1].facet, 1);  // beyond the held facet's tolerance: the closest facet again
+  EXPECT_NEAR(cs[1].gap, nb.dot(x[4]), 1e-12);
+  // A node held on a facet that is not its closest: the gap's variations are those of the
+  // held facet (its first variation is the held facet's normal on the slave node's DOFs).
+  EXPECT_NEAR(cs[0].grad(1), 1, 1e-12);
+  EXPECT_NEAR(cs[0].grad(0), 0, 1e-12);
+}
+
 TEST(ContactDetection, NodeToEdgeAtAConvexRidge3D) {
   // Two master quads meeting at a convex ridge along the y axis: facet A in the plane z = -x
   // for x in [0, 1] (outward normal (1, 0, 1)/sqrt 2), facet B in z = x for x in [-1, 0]

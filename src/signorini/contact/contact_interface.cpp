@@ -139,8 +139,11 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
     r.swapped = false;
     r.friction_hold = StickSlip::none;
     r.last_slip = r.committed_friction == StickSlip::slip;
-    r.feature_changes = 0;
+    r.feature_changes = r.feature_returns = 0;
+    r.last_kind = r.before_kind = -1;
+    r.last_facet = r.before_facet = r.held_facet = -1;
   }
+  discretization_->hold_facets({});
   frozen_reported_ = 0;
   enforcement_->begin_increment(nodes_);
   if (!frictional()) return;
@@ -283,28 +286,46 @@ void ContactInterface::count_status_changes() {
       }
     }
   }
-  // Closed nodes whose master feature (facet, edge or vertex) changed at this iterate.
-  if (log::level() <= log::Level::debug) {
-    std::vector<Index> moved;
-    for (size_t j = 0; j < state_.active.size() && j < constraints_.size(); ++j) {
-      NodeRecord& r = nodes_[j];
-      const int kind = static_cast<int>(constraints_[j].kind);
-      const Index facet = constraints_[j].facet;
-      if (state_.active[j] && r.last_kind >= 0 && (kind != r.last_kind || facet != r.last_facet)) {
-        ++r.feature_changes;
-        moved.push_back(j);
-      }
-      r.last_kind = kind;
-      r.last_facet = facet;
+  // Closed nodes whose master feature (facet, edge or vertex) changed at this iterate; a node
+  // back on the feature it left for the second time is held on its facet (NodeRecord).
+  std::vector<Index> moved, held;
+  for (size_t j = 0; j < state_.active.size() && j < constraints_.size(); ++j) {
+    NodeRecord& r = nodes_[j];
+    const int kind = static_cast<int>(constraints_[j].kind);
+    const Index facet = constraints_[j].facet;
+    if (state_.active[j] && r.last_kind >= 0 && (kind != r.last_kind || facet != r.last_facet)) {
+      ++r.feature_changes;
+      if (kind == r.before_kind && facet == r.before_facet) ++r.feature_returns;
+      moved.push_back(static_cast<Index>(j));
+      r.before_kind = r.last_kind;
+      r.before_facet = r.last_facet;
     }
-    if (!moved.empty()) {
-      std::string ids;
-      for (size_t k = 0; k < moved.size() && k < 8; ++k)
-        ids += fmt::format("{}{} ({} changes)", k ? ", " : "", (*node_ids_)[slave_.nodes[moved[k]]],
-                           nodes_[moved[k]].feature_changes);
-      log::debug("contact '{}': {} closed slave node(s) met another master facet, edge or vertex (mesh nodes {}{})",
-                 label_, moved.size(), ids, moved.size() > 8 ? ", ..." : "");
+    r.last_kind = kind;
+    r.last_facet = facet;
+    if (state_.active[j] && r.held_facet < 0 && r.feature_returns >= 2 &&
+        constraints_[j].kind == ConstraintKind::segment) {
+      r.held_facet = facet;
+      held.push_back(static_cast<Index>(j));
     }
+  }
+  if (!moved.empty()) {
+    std::string ids;
+    for (size_t k = 0; k < moved.size() && k < 8; ++k)
+      ids += fmt::format("{}{} ({} changes)", k ? ", " : "", (*node_ids_)[slave_.nodes[moved[k]]],
+                         nodes_[moved[k]].feature_changes);
+    log::debug("contact '{}': {} closed slave node(s) met another master facet, edge or vertex (mesh nodes {}{})",
+               label_, moved.size(), ids, moved.size() > 8 ? ", ..." : "");
+  }
+  if (!held.empty()) {
+    std::vector<Index> facets(nodes_.size(), -1);
+    for (size_t j = 0; j < nodes_.size(); ++j) facets[j] = nodes_[j].held_facet;
+    discretization_->hold_facets(facets);
+    std::string ids;
+    for (size_t k = 0; k < held.size() && k < 8; ++k)
+      ids += fmt::format("{}{}", k ? ", " : "", (*node_ids_)[slave_.nodes[held[k]]]);
+    log::debug("contact '{}': {} slave node(s) went back and forth between master facets and are held on their "
+               "facet until the increment ends (mesh nodes {}{})",
+               label_, held.size(), ids, held.size() > 8 ? ", ..." : "");
   }
   if (!newly_frozen.empty()) {
     std::string ids;

@@ -41,13 +41,16 @@ struct NodeRecord {
   bool last_slip = false, swapped = false;
   StickSlip friction_hold = StickSlip::none;
   StickSlip committed_friction = StickSlip::none;
-  // The master feature the node met at the last accepted iterate (its constraint's kind and
-  // facet), and how often it changed in this increment (a diagnosis: -v logs the nodes that
-  // move between master facets while the statuses hold, which is how Newton cycles across a
-  // jump of the faceted surface's normal).
-  int last_kind = -1;
-  Index last_facet = -1;
-  int feature_changes = 0;
+  // The master feature (the constraint's kind and facet) a closed node met at the last
+  // accepted iterate and the one before its last change, how often it changed and how often
+  // it went back to the one before, in this increment; the master facet it is held on (-1:
+  // none). A node on the edge between two master facets can go to and fro between them at
+  // every Newton iteration (the normal, and with it the force, jumps there): after two returns
+  // it is held on its facet for the rest of the increment (ContactInterface::count_status_changes).
+  int last_kind = -1, before_kind = -1;
+  Index last_facet = -1, before_facet = -1;
+  int feature_changes = 0, feature_returns = 0;
+  Index held_facet = -1;
   // Friction: where the slip of the increment is measured from, the tangential traction the
   // return map starts from (penalty; the committed one, or the augmented Lagrangian's last
   // update) and the committed one, and the slip record for output.

@@ -4,6 +4,7 @@
 #include <csignal>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -668,6 +669,17 @@ int Analysis::rank() const { return backend_->rank(); }
 int Analysis::ranks() const { return backend_->ranks(); }
 bool Analysis::any_rank_failed(std::string& message) const { return backend_->any_failed(message); }
 
+int Analysis::interrupt_on_any_rank() const {
+  int sig = interrupt_signal();
+  if (backend_->ranks() == 1) return sig;
+  // mpirun passes a signal on to every rank, but each notices it at its own point of the
+  // code: the ranks agree on it here, so that all stop at the same check (the collectives of
+  // the next iteration would otherwise wait for a rank that has stopped).
+  std::string message = sig ? std::to_string(sig) : std::string();
+  if (!backend_->any_failed(message)) return 0;
+  return std::atoi(message.c_str());
+}
+
 Index Analysis::node_of_unknown(Index unknown) const {
   if (unknown < 0 || unknown >= dofs_.num_dofs()) return -1;
   for (Index nd = 0; nd < dofs_.num_nodes(); ++nd)
@@ -1000,7 +1012,7 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       return true;
     }
     for (int it = 1; it - st.cycle_start < ns.max_iterations; ++it) {
-      if (const int sig = interrupt_signal()) throw Interrupted(sig);
+      if (const int sig = interrupt_on_any_rank()) throw Interrupted(sig);
       if (pseudo_transient) {
         if (it == 1) ptc_shift_ = d_mean;
         else if (last_rnorm > 0) ptc_shift_ *= st.rnorm < last_rnorm ? 0.5 : 2.0;
@@ -1187,7 +1199,7 @@ AnalysisSummary Analysis::run_steps() {
     bool continuation = false;
     int continuation_attempts = 0;
     while (lambda < 1 - 1e-12) {
-      if (const int sig = interrupt_signal()) throw Interrupted(sig);
+      if (const int sig = interrupt_on_any_rank()) throw Interrupted(sig);
       if (inc >= step.max_increments) {
         summary_.failure = fmt::format("step '{}': more than {} increments", step.name, step.max_increments);
         summary_.total_seconds = total.seconds();

@@ -102,6 +102,9 @@ class Analysis {
   // a failure (its `message` not empty); the lowest such rank's message is then in `message`
   // on every rank. One rank: whether `message` is not empty.
   bool any_rank_failed(std::string& message) const;
+  // The signal (SIGINT, SIGTERM) that asked the run to stop, if any rank has received one;
+  // collective under mpirun. 0: none.
+  int interrupt_on_any_rank() const;
   // Unknowns: the displacement DOFs, then the contact multipliers.
   Index num_unknowns() const { return static_cast<Index>(u_.size()); }
   const std::vector<std::unique_ptr<ContactInterface>>& contacts() const { return contacts_; }

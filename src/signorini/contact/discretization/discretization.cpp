@@ -377,8 +377,12 @@ class NodeToSegment : public DeformableMaster {
     nodes.insert(nodes.end(), around.begin(), around.end());
   }
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
-    node_to_segment(master_, slave_, x, dim_, candidate_, out);
+    node_to_segment(master_, slave_, x, dim_, candidate_, out, nullptr, held_.empty() ? nullptr : &held_);
   }
+  void hold_facets(std::vector<Index> facet) override { held_ = std::move(facet); }
+
+ protected:
+  std::vector<Index> held_;  // per slave node, the facet it is held on (-1: none); empty: none
 };
 
 // Self-contact: node-to-segment on one surface (ContactPairSettings::self). Every node of the
@@ -410,7 +414,7 @@ class SelfNodeToSegment final : public NodeToSegment {
       if (facet[j] >= 0 || !(tracked[j] && candidate_[j] >= 0)) candidate_[j] = facet[j];
   }
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
-    node_to_segment(master_, slave_, x, dim_, candidate_, out, &excluded_);
+    node_to_segment(master_, slave_, x, dim_, candidate_, out, &excluded_, held_.empty() ? nullptr : &held_);
     // Two nodes that meet each other (each one's closest master point the other node: mirror
     // images on a symmetry plane, or the nodes of two symmetric halves) carry the same
     // constraint twice, which makes the multiplier system singular: the second is dropped.

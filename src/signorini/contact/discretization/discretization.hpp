@@ -74,6 +74,10 @@ class Discretization {
   // first detect (throws Error when a discretization cannot use it or a slave facet has no
   // owning cell), and the integration points of the last build (null: none).
   virtual void set_boundary_traction(const BoundaryTraction*);
+  // Node-to-segment: per slave node, the master facet to keep (-1, or an empty vector: choose
+  // the closest) as long as the node projects onto it, up to kHeldFacetTolerance of it beyond
+  // its edges. The others ignore it.
+  virtual void hold_facets(std::vector<Index> /*facet*/) {}
   virtual const std::vector<PointConstraint>* integration_points() const { return nullptr; }
 
  protected:

@@ -14,7 +14,7 @@ constexpr Real kEdgeTolerance = 1e-2;  // in facet parameters
 
 void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, const std::vector<Vec3>& x, int dim,
                      const std::vector<Index>& candidate, ConstraintSet& out,
-                     const std::vector<std::vector<Index>>* excluded) {
+                     const std::vector<std::vector<Index>>* excluded, const std::vector<Index>* held) {
   const Index ns = static_cast<Index>(slave.nodes.size());
   out = open_constraints(slave);
 #pragma omp parallel for schedule(dynamic, 32)
@@ -46,31 +46,44 @@ void node_to_segment(const MasterSurface& master, const SlaveSurface& slave, con
     FacetProjection best_fp;
     std::vector<Vec3> xf, best_x;
     Real best_dist = std::numeric_limits<Real>::infinity();
-    for (Index f : around) {
-      xf.clear();
+    // A node held on a facet (it went back and forth between two) keeps it while it projects
+    // onto it, the facet extended by kHeldFacetTolerance beyond its edges.
+    if (held && static_cast<Index>(held->size()) == ns && (*held)[j] >= 0) {
+      const Index f = (*held)[j];
       for (Index n : master.basis_nodes(f)) xf.push_back(x[n]);
-      const FacetBasis basis = master.basis(f);
-      FacetProjection fp = project_on_facet(basis, xf, p, dim, kEdgeTolerance);
-      if (!fp.inside) continue;
-      Real metric = fp.A(0, 0);
-      if (fp.params == 2) metric = std::max(metric, fp.A(1, 1));
-      const Real beyond = outside_reference(basis, fp.xi) * std::sqrt(metric);
-      // Distances equal to 1e-10 of the facet's edge are a tie, broken by the lower facet
-      // index: a slave node over a master vertex or edge (the pole of a sphere over the
-      // corner of a symmetric block) has the same gap on every facet around it up to
-      // round-off, and round-off picked the facet, whose normal then set the force's
-      // direction: the choice flipped from one Newton iteration to the next and the residual
-      // stalled once at 2.7e-8 (examples/hertz_sphere_3d at hc 0.035; in units x 1e-3 it did
-      // not).
-      const Real tie = 1e-10 * (xf[1] - xf[0]).norm();
-      const Real d = std::hypot(fp.gap, beyond);
-      if (d < best_dist - tie || (d <= best_dist + tie && f < best)) {
-        best_dist = d;
+      const FacetProjection fp = project_on_facet(master.basis(f), xf, p, dim, kHeldFacetTolerance);
+      if (fp.inside) {
         best = f;
         best_fp = fp;
         best_x = xf;
       }
     }
+    if (best < 0)
+      for (Index f : around) {
+        xf.clear();
+        for (Index n : master.basis_nodes(f)) xf.push_back(x[n]);
+        const FacetBasis basis = master.basis(f);
+        FacetProjection fp = project_on_facet(basis, xf, p, dim, kEdgeTolerance);
+        if (!fp.inside) continue;
+        Real metric = fp.A(0, 0);
+        if (fp.params == 2) metric = std::max(metric, fp.A(1, 1));
+        const Real beyond = outside_reference(basis, fp.xi) * std::sqrt(metric);
+        // Distances equal to 1e-10 of the facet's edge are a tie, broken by the lower facet
+        // index: a slave node over a master vertex or edge (the pole of a sphere over the
+        // corner of a symmetric block) has the same gap on every facet around it up to
+        // round-off, and round-off picked the facet, whose normal then set the force's
+        // direction: the choice flipped from one Newton iteration to the next and the residual
+        // stalled once at 2.7e-8 (examples/hertz_sphere_3d at hc 0.035; in units x 1e-3 it did
+        // not).
+        const Real tie = 1e-10 * (xf[1] - xf[0]).norm();
+        const Real d = std::hypot(fp.gap, beyond);
+        if (d < best_dist - tie || (d <= best_dist + tie && f < best)) {
+          best_dist = d;
+          best = f;
+          best_fp = fp;
+          best_x = xf;
+        }
+      }
     if (best >= 0) {
       c.kind = ConstraintKind::segment;
       c.facet = best;
