@@ -76,6 +76,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
     return 128 + interrupt_signal();
   }
   print_model(model, rep);
+  log::debug("peak memory {:.0f} MiB with the deck and mesh read", log::peak_memory_mib());
   if (check_only) {
     fmt::print("Deck and mesh are valid; nothing solved ('signorini run' solves).\n");
     return 0;
@@ -90,6 +91,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
                                  ranks, model.linear_solver.type));
   ResultsWriter writer(model, dir, rank);
   Analysis analysis(model);
+  log::debug("peak memory {:.0f} MiB with the analysis set up (DOF map, sparse pattern)", log::peak_memory_mib());
   if (!restart.empty()) {
     analysis.read_restart(restart);
     fmt::print("  restart    from {}: steps 1 to {} done, continuing with step {} '{}'\n", restart,

@@ -755,9 +755,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     try {
       krylov(Kr_, rr, w);  // u~
       log::debug("    condensed on {} ranks: {} closed, {} open; T {:.2f} s, T^T J T {:.2f} s ({}), diagonal and "
-                 "right-hand side {:.2f} s, Krylov {:.2f} s ({} iterations)",
+                 "right-hand side {:.2f} s, Krylov {:.2f} s ({} iterations); this rank's peak memory {:.0f} MiB",
                  size_, closed.size(), open.size(), t_plan, t_ptap - t_plan, same ? "updated in place" : "new pattern",
-                 t_rhs - t_ptap, timer.seconds() - t_rhs, iterations_);
+                 t_rhs - t_ptap, timer.seconds() - t_rhs, iterations_, log::peak_memory_mib());
     } catch (...) {
       VecDestroy(&w);
       VecDestroy(&rr);
