@@ -4,7 +4,6 @@
 #include <csignal>
 #include <Eigen/Eigenvalues>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -670,14 +669,12 @@ int Analysis::ranks() const { return backend_->ranks(); }
 bool Analysis::any_rank_failed(std::string& message) const { return backend_->any_failed(message); }
 
 int Analysis::interrupt_on_any_rank() const {
-  int sig = interrupt_signal();
-  if (backend_->ranks() == 1) return sig;
   // mpirun passes a signal on to every rank, but each notices it at its own point of the
   // code: the ranks agree on it here, so that all stop at the same check (the collectives of
-  // the next iteration would otherwise wait for a rank that has stopped).
-  std::string message = sig ? std::to_string(sig) : std::string();
-  if (!backend_->any_failed(message)) return 0;
-  return std::atoi(message.c_str());
+  // the next iteration, partitioned assembly's or a distributed solve's, would otherwise wait
+  // for a rank that has stopped).
+  const int sig = interrupt_signal();
+  return parallel_ranks() > 1 ? max_over_ranks(sig) : sig;
 }
 
 Index Analysis::node_of_unknown(Index unknown) const {

@@ -112,6 +112,14 @@ int parallel_ranks() {
 #endif
 }
 
+int max_over_ranks(int value) {
+#ifdef SIGNORINI_HAVE_PETSC
+  return petsc_max_over_ranks(value);
+#else
+  return value;
+#endif
+}
+
 bool is_petsc_solver(const std::string& name) {
   return is_amg_solver(name) || name == "mumps" || name == "petsc";
 }

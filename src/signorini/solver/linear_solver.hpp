@@ -71,6 +71,9 @@ int launched_ranks();
 // without starting MPI.
 int launched_rank();
 int parallel_ranks();
+// Under mpirun (collective: every rank calls it at the same point): the largest of the ranks'
+// values; otherwise the value.
+int max_over_ranks(int value);
 const std::vector<std::string>& linear_solver_names();  // for the registry and the deck
 
 // Chooses per factorization: holds the selected solver and falls back as documented.

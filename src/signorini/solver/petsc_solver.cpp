@@ -1091,6 +1091,11 @@ std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& s
   return std::make_unique<PetscBackend>(settings);
 }
 
+int petsc_max_over_ranks(int value) {
+  if (petsc_world_size() > 1) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  return value;
+}
+
 void abort_all_ranks(int code) {
   MPI_Abort(MPI_COMM_WORLD, code);
   std::exit(code);  // not reached

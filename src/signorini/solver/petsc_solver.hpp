@@ -38,6 +38,9 @@ struct MpiInfo {
 MpiInfo start_petsc_if_launched_by_mpi();
 // Ends every rank's process with `code` (an error on some ranks only: MPI_Abort).
 [[noreturn]] void abort_all_ranks(int code);
+// Collective over PETSC_COMM_WORLD: the largest of the ranks' values (the value itself with
+// one rank, or before PETSc starts).
+int petsc_max_over_ranks(int value);
 // Ranks of PETSC_COMM_WORLD (1 before PETSc starts).
 int petsc_world_size();
 
