@@ -23,12 +23,14 @@ struct GridCase {
   Real hc = 0.01;                // element size at the contact (mm)
   Real unit = 1;                 // 1: mm, N, MPa; 1e-3: m, N, Pa (the same mesh, scaled)
   std::string discretization = "node_to_segment";
+  bool stick_predictor = true;   // friction.stick_predictor (penalty and augmented Lagrangian)
 };
 
 inline std::string grid_name(const GridCase& c) {
   std::string s = fmt::format("{}{}_mu{:g}_ratio{:g}_hc{:g}{}",
                               c.discretization == "node_to_segment" ? "" : c.discretization + "_", c.method, c.mu,
                               c.ratio, c.hc, c.unit == 1 ? "" : "_SI");
+  if (!c.stick_predictor) s += "_no_stick_predictor";
   for (char& ch : s)
     if (ch == '.') ch = 'p';
   return s;
@@ -56,7 +58,7 @@ contact:
     surfaces: [CylinderSurface, BlockTop]
     discretization: {discretization}
     enforcement: {{method: {method}}}
-    friction: {{law: coulomb, mu: {mu}}}
+    friction: {{law: coulomb, mu: {mu}{predictor}}}
 steps:
   - name: press
     boundary:
@@ -77,7 +79,8 @@ checks:
                      fmt::arg("name", grid_name(c)), fmt::arg("geo", geo.string()), fmt::arg("hc", c.hc),
                      fmt::arg("L", L), fmt::arg("E", 210000 * S), fmt::arg("method", c.method), fmt::arg("mu", c.mu),
                      fmt::arg("dy", -d * L), fmt::arg("q", q * S),
-                     fmt::arg("discretization", c.discretization));
+                     fmt::arg("discretization", c.discretization),
+                     fmt::arg("predictor", c.stick_predictor ? "" : ", stick_predictor: false"));
 }
 
 struct GridResult {

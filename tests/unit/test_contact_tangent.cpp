@@ -220,6 +220,7 @@ TEST(ContactTangent, TurningRigidMasterBody) {
         cs.friction = friction;
         cs.friction_parameter = 0.3;
         cs.tangential_penalty = 20000;
+        cs.stick_predictor = false;  // the return map's own stick/slip statuses (the predictor: FrictionGrid*)
         ContactInterface ci(cs, mesh, as, 100.0, false);
         const Index nd = dofs.num_dofs(), nm = ci.num_multipliers(), nz = nd + nm + na;
         RigidRotations rr;
@@ -413,6 +414,7 @@ TEST_P(FrictionTangent, MatchesCentralDifferences) {
     cs.friction = "coulomb";
     cs.friction_parameter = 0.3;
     cs.tangential_penalty = epst;
+    cs.stick_predictor = false;  // the return map's own stick/slip statuses (the predictor: FrictionGrid*)
     cs.smoothing = fc.smoothing;
     if (fc.rigid) {
       cs.slave = "ymax";
@@ -532,6 +534,7 @@ TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
   cs.friction_parameter = 0.3;
   cs.tangential_penalty = 5000;
   cs.max_flips = 2;
+  cs.stick_predictor = false;  // the guard on the return map's own stick/slip statuses
   ContactInterface ci(cs, mesh, as, 100.0, false);
   ci.set_multiplier_offset(nz);
   ci.detect(test::cells_of_positions(mesh, dofs, z0), 0.05);

@@ -79,6 +79,7 @@ void check_combination(const ContactCombination& c, int theta = 1) {
   cs.smoothing = c.smoothing;
   cs.friction = c.friction;
   cs.friction_parameter = c.friction == "coulomb" ? 0.3 : 0.05;
+  cs.stick_predictor = false;  // stick and slip from the return map at every grid state
   if (c.rigid()) {
     cs.rigid = true;
     cs.slave = three ? "zmax" : "ymax";

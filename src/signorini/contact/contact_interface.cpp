@@ -131,6 +131,8 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
 }
 
 void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z) {
+  // The stick predictor (penalty and augmented Lagrangian friction): see end_stick_predictor.
+  stick_predictor_ = frictional() && s_.stick_predictor && !uses_multipliers();
   for (NodeRecord& r : nodes_) {
     r.flips = 0;
     r.hold = Hold::none;
@@ -251,8 +253,28 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   if (frictional()) {
     in.friction = friction_.get();
     in.fixed = fixed;
+    in.stick_predictor = stick_predictor_;
   }
   enforcement_->assemble(in, z, residual, K, state_);
+}
+
+Index ContactInterface::end_stick_predictor(bool converged) {
+  // While the normal statuses change, a node that closes in this increment sticks (its trial
+  // traction is taken whole: Penalty::add_friction). Its slip at those iterates is the slip
+  // of a contact point that is still moving into place: measured on the press of the friction
+  // grid (mu 0.1, penalty), a free return map sent nodes into slip on it at iterations 1-4,
+  // and each came back to stick one per iteration under the line search (17 iterations; with
+  // the predictor 8). The predictor ends at the first accepted iterate whose normal statuses
+  // did not change, or when the residual it shapes has converged; the residual is then that
+  // of the free law, and Newton goes on from there. Returns how many closed nodes the
+  // predictor held in stick outside their friction disc (0: ending it changes nothing).
+  if (!stick_predictor_) return 0;
+  if (!converged && iterate_status_.newly_closed + iterate_status_.newly_opened > 0) return 0;
+  stick_predictor_ = false;
+  Index held = 0;
+  for (size_t j = 0; j < nodes_.size() && j < state_.cone_excess.size(); ++j)
+    if (state_.active[j] && !nodes_[j].committed_closed && state_.cone_excess[j] > 0) ++held;
+  return held;
 }
 
 void ContactInterface::count_status_changes() {

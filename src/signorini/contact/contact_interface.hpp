@@ -109,6 +109,11 @@ class ContactInterface {
   std::pair<Real, Index> penetration_growth(const std::vector<Real>& before) const;
   // After an accepted Newton iterate: count status changes (chattering guard).
   void count_status_changes();
+  // Friction with the penalty or the augmented Lagrangian: ends the stick predictor (nodes that
+  // close in this increment stick while the normal statuses change) after an accepted iterate
+  // whose normal statuses held, or whose residual has `converged`; returns how many nodes it
+  // held in stick outside their friction disc (their residual changes when it ends).
+  Index end_stick_predictor(bool converged);
   // At the last accepted iterate: closed slave nodes, and how many closed and opened in it.
   struct IterateStatus {
     Index closed = 0, newly_closed = 0, newly_opened = 0;
@@ -195,6 +200,7 @@ class ContactInterface {
   // normal_jacobian and (friction) slip_jacobian and slip_hessian by the chain rule through
   // x_k(theta): dx/dtheta = J R d, d2x/dtheta2 = -R d, d = X_k - X_ref.
   void add_rigid_rotations(Constraint& c, const VecX& z) const;
+  bool stick_predictor_ = false;  // friction: the stick predictor is on (end_stick_predictor)
 };
 
 }  // namespace signorini

@@ -47,6 +47,7 @@ struct ContactPairSettings {
   std::string friction = "none";                  // friction law: none, coulomb, tresca
   Real friction_parameter = 0;                    // coulomb: mu; tresca: the bound on |t|
   Real tangential_penalty = 0;                    // 0: automatic, the normal penalty of the node
+  bool stick_predictor = true;                    // penalty, augmented Lagrangian: ContactInterface::end_stick_predictor
   std::string where;                              // deck location
 };
 

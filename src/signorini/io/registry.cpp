@@ -330,7 +330,7 @@ void register_deck_sections(Registry& r) {
                  {"none", "hermite"}, "none"),
           opt(text("enforcement", "{method, penalty} (see 'describe enforcement')", std::nullopt, ParamKind::any)),
           opt(text("search", "{method, max_distance, update} (see 'describe search')", std::nullopt, ParamKind::any)),
-          opt(text("friction", "{law, mu | bound, penalty} (see 'describe friction'); omit for frictionless", std::nullopt,
+          opt(text("friction", "{law, mu | bound, penalty, stick_predictor} (see 'describe friction'); omit for frictionless", std::nullopt,
                    ParamKind::any))}});
   r.add({"deck", "friction", "Friction on a contact pair (any enforcement). The tangential traction stays "
                              "within |t| <= bound: mu p (coulomb) or a constant (tresca); it sticks inside, slips on it.",
@@ -338,7 +338,10 @@ void register_deck_sections(Registry& r) {
           opt(number("mu", "coulomb: the friction coefficient", std::nullopt, 0, INFINITY)),
           opt(number("bound", "tresca: the largest tangential traction", std::nullopt, 0, INFINITY)),
           text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity constant), or auto = the normal penalty of the node",
-               "auto", ParamKind::any)}});
+               "auto", ParamKind::any),
+          text("stick_predictor", "penalty and augmented_lagrangian: a node that closes in an increment sticks while the "
+                                  "normal statuses change, then slips freely (fewer Newton iterations; the same solution)",
+               "true", ParamKind::boolean)}});
   r.add({"deck", "rigid", "A rigid analytic master surface; the body stays outside it (inside with inside: true). "
                           "It moves with {contact: <pair>, u: [...]} entries in a step's boundary list.",
          {choice("rigid", "shape (a cylinder is a circle in 2D)", {"plane", "cylinder", "sphere"}, std::nullopt),

@@ -1060,6 +1060,19 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       R.swap(Rtrial);
       st.rnorm = new_norm;
       for (auto& c : contacts_) c->count_status_changes();
+      // The stick predictor (penalty and augmented Lagrangian friction, ContactInterface) ends
+      // once the normal statuses hold, or when the residual it shapes has converged: the
+      // residual of the free friction law is then evaluated here, before convergence is judged.
+      Index released = 0;
+      const bool would_converge = converged_residual(st.rnorm, std::max(st.scale, new_scale));
+      for (auto& c : contacts_) released += c->end_stick_predictor(would_converge);
+      if (released > 0) {
+        new_scale = std::max(new_scale, evaluate(lambda, true, R));
+        st.rnorm = force_norm(R);
+        log::info("      stick predictor released: {} node(s) that closed in this increment are free to slip; "
+                  "|R|/F = {:.3e}",
+                  released, st.rnorm / std::max(st.scale, new_scale));
+      }
       st.scale = std::max(st.scale, new_scale);
       const Real rel = st.scale > 0 ? st.rnorm / st.scale : st.rnorm;
       rec.residuals.push_back(rel);
