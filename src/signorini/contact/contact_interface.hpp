@@ -111,9 +111,10 @@ class ContactInterface {
   void count_status_changes();
   // Friction with the penalty or the augmented Lagrangian: ends the stick predictor (nodes that
   // close in this increment stick while the normal statuses change) after an accepted iterate
-  // whose normal statuses held, or whose residual has `converged`; returns how many nodes it
+  // whose normal statuses held, whose line-search `step` was kStickPredictorStep or less (but
+  // at the `first_iteration`), or whose residual has `converged`; returns how many nodes it
   // held in stick outside their friction disc (their residual changes when it ends).
-  Index end_stick_predictor(bool converged);
+  Index end_stick_predictor(bool converged, Real step, bool first_iteration);
   // At the last accepted iterate: closed slave nodes, and how many closed and opened in it.
   struct IterateStatus {
     Index closed = 0, newly_closed = 0, newly_opened = 0;
@@ -193,6 +194,10 @@ class ContactInterface {
   bool pressure_reported_ = false;  // set_reported_pressure was called (else the multipliers are reported)
   static constexpr Real kHeldFrictionTolerance = 0.02;     // of the bound
   static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h
+  // The stick predictor ends after a step the line search cut to this or less, beyond the
+  // first iteration (measured: Klang's pin has 1/16 at its second iteration and needs it
+  // ended; the friction grid's press has full steps there and needs it; end_stick_predictor).
+  static constexpr Real kStickPredictorStep = 0.125;
   Real friction_violation(size_t j) const;
   void build_constraints(const std::vector<Vec3>& x, const VecX& z);
   const RigidRotations* rotations_ = nullptr;

@@ -339,8 +339,9 @@ void register_deck_sections(Registry& r) {
           opt(number("bound", "tresca: the largest tangential traction", std::nullopt, 0, INFINITY)),
           text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity constant), or auto = the normal penalty of the node",
                "auto", ParamKind::any),
-          text("stick_predictor", "penalty and augmented_lagrangian: a node that closes in an increment sticks while the "
-                                  "normal statuses change, then slips freely (fewer Newton iterations; the same solution)",
+          text("stick_predictor", "penalty and augmented_lagrangian: in the increment where the contact zone forms, a "
+                                  "node that closes sticks while the normal statuses change, then slips freely (fewer "
+                                  "Newton iterations; the same solution)",
                "true", ParamKind::boolean)}});
   r.add({"deck", "rigid", "A rigid analytic master surface; the body stays outside it (inside with inside: true). "
                           "It moves with {contact: <pair>, u: [...]} entries in a step's boundary list.",

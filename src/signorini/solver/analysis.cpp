@@ -1061,11 +1061,12 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       st.rnorm = new_norm;
       for (auto& c : contacts_) c->count_status_changes();
       // The stick predictor (penalty and augmented Lagrangian friction, ContactInterface) ends
-      // once the normal statuses hold, or when the residual it shapes has converged: the
-      // residual of the free friction law is then evaluated here, before convergence is judged.
+      // once the normal statuses hold, after a step the line search cut short, or when the
+      // residual it shapes has converged: the residual of the free friction law is then
+      // evaluated here, before convergence is judged.
       Index released = 0;
       const bool would_converge = converged_residual(st.rnorm, std::max(st.scale, new_scale));
-      for (auto& c : contacts_) released += c->end_stick_predictor(would_converge);
+      for (auto& c : contacts_) released += c->end_stick_predictor(would_converge, alpha, it == st.cycle_start);
       if (released > 0) {
         new_scale = std::max(new_scale, evaluate(lambda, true, R));
         st.rnorm = force_norm(R);
