@@ -42,8 +42,8 @@ TEST_P(FrictionGrid, ConvergesWithDefaultsAndMatchesCattaneoMindlin) {
 }
 // The stick predictor (friction.stick_predictor, penalty and augmented Lagrangian): in the
 // increment where the contact zone forms, a node that closes sticks while the normal statuses
-// change, then slips freely (ContactInterface::end_stick_predictor). It changes the Newton path, not the solution: the
-// press-then-shear case where it matters most (mu 0.1: without it, nodes sent into slip by the
+// change, then slips freely (ContactInterface::end_stick_predictor). It changes the Newton
+// path, not the solution: the press-then-shear case where it matters most (mu 0.1: without it, nodes sent into slip by the
 // first iterates of the press come back to stick one per iteration under the line search)
 // run with and without it gives the same c/a, P and Q to the Newton tolerance (asserted 1e-6
 // relative), in fewer iterations with it (measured: 14 against 23 for both steps).

@@ -269,17 +269,20 @@ Index ContactInterface::end_stick_predictor(bool converged, Real step, bool firs
   // one per iteration under the line search (17 iterations; with the predictor 8). Not once
   // the zone exists: the nodes that then close are at its edge, where they may truly slip
   // (Klang's pin: with the predictor in every increment, its increments 2-10 took 5-21
-  // iterations instead of 3-6, 129 in all against 57). The predictor ends at the first accepted iterate whose normal statuses
-  // did not change, or whose step the line search cut to kStickPredictorStep or less, beyond
-  // the first iteration (whose step carries the bodies' approach and is often cut: 1/16 on
-  // the friction grid's press with mortar, which needs the predictor after it) (the
-  // linearization is then far from the residual along the step, and holding nodes in stick
-  // only restrains a body that has to move: Klang's pin, pushed by a force into its hole,
-  // closes a node or a few per iteration at steps of 1/64-1/16, and with the predictor held
-  // to the end of the closing its first increment failed twice, 25 iterations each), or when
-  // the residual it shapes has converged; the residual is then that of the free law, and
-  // Newton goes on from there. Returns how many closed nodes the predictor held in stick
-  // outside their friction disc (0: ending it changes nothing).
+  // iterations instead of 3-6, 129 in all against 57).
+  // The predictor ends at the first accepted iterate
+  // - whose normal statuses did not change;
+  // - or whose step the line search cut to kStickPredictorStep or less, the first iteration
+  //   apart (its step carries the bodies' approach and is often cut: 1/16 on the friction
+  //   grid's press with mortar, which needs the predictor after it). Such a step means the
+  //   linearization is far from the residual, and holding nodes in stick only restrains a
+  //   body that has to move: Klang's pin, pushed by a force into its hole, closes a node or a
+  //   few per iteration at steps of 1/64-1/16; with the predictor held to the end of the
+  //   closing its first increment failed twice, 25 iterations each;
+  // - or whose residual, shaped by the predictor, has converged.
+  // The residual is then that of the free law, and Newton goes on from there. Returns how many
+  // closed nodes the predictor held in stick outside their friction disc (0: ending it changes
+  // nothing).
   if (!stick_predictor_) return 0;
   const bool force = converged || (!first_iteration && step <= kStickPredictorStep);
   if (!force && iterate_status_.newly_closed + iterate_status_.newly_opened > 0) return 0;
