@@ -288,8 +288,8 @@ Index ContactInterface::end_stick_predictor(bool converged, Real step, bool firs
   if (!force && iterate_status_.newly_closed + iterate_status_.newly_opened > 0) return 0;
   stick_predictor_ = false;
   Index held = 0;
-  for (size_t j = 0; j < nodes_.size() && j < state_.cone_excess.size(); ++j)
-    if (state_.active[j] && !nodes_[j].committed_closed && state_.cone_excess[j] > 0) ++held;
+  for (size_t j = 0; j < state_.cone_excess.size(); ++j)
+    if (state_.active[j] && state_.cone_excess[j] > 0) ++held;
   return held;
 }
 

@@ -111,7 +111,7 @@ class ContactInterface {
   void count_status_changes();
   // Friction with the penalty or the augmented Lagrangian: ends the stick predictor (nodes that
   // close in this increment stick while the normal statuses change) after an accepted iterate
-  // whose normal statuses held, whose line-search `step` was kStickPredictorStep or less (but
+  // whose normal statuses held, whose line-search `step` was kStickPredictorStep or less (not
   // at the `first_iteration`), or whose residual has `converged`; returns how many nodes it
   // held in stick outside their friction disc (their residual changes when it ends).
   Index end_stick_predictor(bool converged, Real step, bool first_iteration);

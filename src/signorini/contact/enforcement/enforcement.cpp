@@ -157,8 +157,7 @@ class Penalty : public Enforcement {
     const Vec3 v = node.traction_old + epst * c.slip;
     const Vec3 trial = v - n * n.dot(v);
     const Real bound = in.friction->bound(p);
-    const bool predicted = in.stick_predictor && !node.committed_closed;
-    const ReturnMap rm = return_map(trial, bound, predicted ? StickSlip::stick : node.friction_hold);
+    const ReturnMap rm = return_map(trial, bound, in.stick_predictor ? StickSlip::stick : node.friction_hold);
     out.traction[j] = rm.traction;
     out.slip[j] = rm.slip;
     out.cone_excess[j] = trial.norm() - bound;

@@ -43,8 +43,9 @@ struct EnforcementInput {
   // Friction: the law; constraints with has_slip get the frictional force.
   const FrictionLaw* friction = nullptr;
   const std::vector<char>* fixed = nullptr;  // per unknown: 1 if a Dirichlet condition prescribes it
-  // Friction, penalty and augmented Lagrangian: the stick predictor is on (ContactInterface):
-  // a closed node that was open at the start of the increment sticks, whatever its trial.
+  // Friction, penalty and augmented Lagrangian: the stick predictor is on (ContactInterface;
+  // only in an increment that starts with every node open): a closed node sticks, whatever its
+  // trial.
   bool stick_predictor = false;
   // Nitsche: the integration points (the discretization's; `constraints` then serve output).
   const std::vector<PointConstraint>* points = nullptr;
