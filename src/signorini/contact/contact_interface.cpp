@@ -89,11 +89,16 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
     // of the semi-smooth Newton method, |lambda_T + c_T d| <= F, then follows the traction
     // more than the unconverged slip of the iterate. The converged solution does not depend
     // on it; measured on the press-then-shear family (docs/contact.md), 0.01 to 0.3 E/h
-    // converge in one increment per step, E/h and above cut back.
-    for (NodeRecord& r : nodes_)
+    // converge in one increment per step, E/h and above cut back. That is the value for a node
+    // that closes in the increment; begin_increment raises it to E/h for a node closed at the
+    // increment's start, whose slip is the one to trust (gross sliding: docs/contact.md, "The
+    // choice of c_T").
+    for (NodeRecord& r : nodes_) {
       r.tangential_stiffness = s_.tangential_penalty > 0 ? s_.tangential_penalty
                                : uses_multipliers()     ? kTangentialComplementarity * stiffness_scale / r.size
                                                         : r.stiffness;
+      r.tangential_closing = s_.tangential_penalty <= 0 && uses_multipliers() ? r.tangential_stiffness : 0;
+    }
   }
 }
 
@@ -136,6 +141,13 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
   stick_predictor_ = frictional() && s_.stick_predictor && !uses_multipliers() &&
                      std::none_of(nodes_.begin(), nodes_.end(), [](const NodeRecord& r) { return r.committed_closed; });
   for (NodeRecord& r : nodes_) {
+    // Lagrange friction's automatic c_T (kTangentialComplementarity*): E/h for a node closed at
+    // the increment's start, a tenth of it for one that closes in the increment.
+    if (r.tangential_closing > 0)
+      r.tangential_stiffness =
+          r.committed_closed
+              ? r.tangential_closing * (kTangentialComplementaritySliding / kTangentialComplementarity)
+              : r.tangential_closing;
     r.flips = 0;
     r.hold = Hold::none;
     r.last_closed = r.committed_closed;

@@ -193,7 +193,11 @@ class ContactInterface {
   std::vector<char> is_slave_;  // per mesh node: a slave node of this pair (pass)
   bool pressure_reported_ = false;  // set_reported_pressure was called (else the multipliers are reported)
   static constexpr Real kHeldFrictionTolerance = 0.02;     // of the bound
-  static constexpr Real kTangentialComplementarity = 0.1;  // Lagrange friction: c_T = this x E / h
+  // Lagrange friction, the automatic c_T = this x E / h: for a node open at the increment's start
+  // (closing: the stick/slip decision follows the traction), for one closed at it (sliding: the
+  // slip weighs as much as the traction it makes); begin_increment.
+  static constexpr Real kTangentialComplementarity = 0.1;
+  static constexpr Real kTangentialComplementaritySliding = 1.0;
   // The stick predictor ends after a step the line search cut to this or less, beyond the
   // first iteration (measured: Klang's pin has 1/16 at its second iteration and needs it
   // ended; the friction grid's press has full steps there and needs it; end_stick_predictor).

@@ -28,6 +28,9 @@ struct NodeRecord {
   Real size = 0;                  // local slave facet size h (mean edge of the node's facets)
   Real stiffness = 0;             // penalty, or the normal complementarity constant c
   Real tangential_stiffness = 0;  // tangential penalty, or the tangential complementarity constant c_T
+  // Lagrange friction with the automatic c_T: its value for a node open at the increment's start
+  // (tangential_stiffness is set from it at each begin_increment; 0: not automatic).
+  Real tangential_closing = 0;
   // Augmented Lagrangian: the multiplier lambda-bar, current and at the last converged increment.
   Real shift = 0, shift_committed = 0;
   // Chattering guard, reset at each increment: open/closed changes, the status at the last

@@ -337,7 +337,9 @@ void register_deck_sections(Registry& r) {
          {choice("law", "coulomb, tresca or none (frictionless)", {"coulomb", "tresca", "none"}, std::nullopt),
           opt(number("mu", "coulomb: the friction coefficient", std::nullopt, 0, INFINITY)),
           opt(number("bound", "tresca: the largest tangential traction", std::nullopt, 0, INFINITY)),
-          text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity constant), or auto = the normal penalty of the node",
+          text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity "
+                          "constant), or auto = the normal penalty of the node (lagrange: 0.1 E/h for a node open at "
+                          "the increment's start, E/h for one closed there)",
                "auto", ParamKind::any),
           text("stick_predictor", "penalty and augmented_lagrangian: in the increment where the contact zone forms, a "
                                   "node that closes sticks while the normal statuses change, then slips freely (fewer "
