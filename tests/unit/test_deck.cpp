@@ -336,6 +336,9 @@ TEST(Deck, ContactSectionErrors) {
   EXPECT_MESSAGE(m, "c_law.yaml:20", "contact[0].friction.law", "coulomb, tresca, none");
   m = error_of("c_bound", kContact + "    enforcement: {method: penalty}\n    friction: {law: coulomb, mu: 0.2, bound: 3}\n");
   EXPECT_MESSAGE(m, "c_bound.yaml:20", "contact[0].friction.bound", "law: tresca");
+  m = error_of("c_nitsche_ct", kContact + "    discretization: segment_to_segment\n    enforcement: {method: nitsche}\n"
+                                          "    friction: {law: coulomb, mu: 0.2, penalty: 100}\n");
+  EXPECT_MESSAGE(m, "c_nitsche_ct.yaml:21", "contact[0].friction.penalty", "method: nitsche", "gamma");
   m = error_of("c_fr_passes", kContact + "    passes: 2\n    enforcement: {method: penalty}\n"
                                          "    friction: {law: coulomb, mu: 0.2}\n");
   EXPECT_MESSAGE(m, "c_fr_passes.yaml:21", "contact[0].friction", "passes: 2");

@@ -50,12 +50,6 @@ const std::vector<Rule>& rules() {
          return "nitsche works on integration points: it needs discretization: segment_to_segment (not " +
                 c.discretization + ")";
        }},
-      {"nitsche with friction",
-       [](const ContactCombination& c) { return c.method == "nitsche" && c.friction != "none"; }, "friction",
-       [](const ContactCombination&) {
-         return std::string("nitsche is frictionless so far: use lagrange, augmented_lagrangian or penalty with "
-                            "friction");
-       }},
       {"tri6 or quad8 slave facets other than segment_to_segment or 3D mortar (two passes: on either surface)",
        [](const ContactCombination& c) {
          auto bad = [](ElementType t) { return t == ElementType::tri6 || t == ElementType::quad8; };

@@ -72,6 +72,21 @@ struct PointConstraint {
   Real pressure = 0;         // p = -n.sigma.n (compression positive)
   VecX pressure_grad;        // dp / du over `nodes`
   Real stiffness = 0;        // Nitsche's parameter 1/gamma = gamma0 E / h (pressure per length)
+  int q = 0;                 // the facet's integration point
+  // The master point it projects on, as master nodes and their shape functions there (friction's
+  // slip origin, taken at the start of the increment).
+  std::vector<std::pair<Index, Real>> master_point;
+  // Friction (a point with a slip origin): the slave facet's reference unit normal nu (outward),
+  // the slave body's traction t = sigma.nu and dt/du over `nodes` (dim rows), and the slip of the
+  // increment d = x_s(xi_q) - x_0 (x_0 the origin's master material point) with D = dd/dz over
+  // `nodes` (dim rows, constant). Small strain: nu is fixed, the tangential parts are
+  // (I - nu nu^T) of these.
+  bool has_slip = false;
+  Vec3 normal = Vec3::Zero();
+  Vec3 traction = Vec3::Zero();
+  MatX traction_grad;
+  Vec3 slip = Vec3::Zero();
+  MatX slip_jacobian;
   // Per slave node of the facet (index into the pair's slave nodes): N+_j(xi_q) weight / w+_j,
   // N+ = max(N~, 0) the positive part of the modified basis and w+_j its integral over the
   // node's facets: the share of the point's pressure in node j's reported pressure, a

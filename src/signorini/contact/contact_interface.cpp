@@ -136,9 +136,10 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
 }
 
 void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z) {
-  // The stick predictor (penalty and augmented Lagrangian friction): in the increment where the
+  // The stick predictor (penalty and augmented Lagrangian friction; not Nitsche's, whose
+  // statuses are its integration points'): in the increment where the
   // pair's contact zone forms, with every node open at its start (see end_stick_predictor).
-  stick_predictor_ = frictional() && s_.stick_predictor && !uses_multipliers() &&
+  stick_predictor_ = frictional() && s_.stick_predictor && !uses_multipliers() && enforcement_->node_statuses() &&
                      std::none_of(nodes_.begin(), nodes_.end(), [](const NodeRecord& r) { return r.committed_closed; });
   for (NodeRecord& r : nodes_) {
     // Lagrange friction's automatic c_T (kTangentialComplementarity*): E/h for a node closed at
@@ -167,6 +168,7 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
   build_constraints(x, z);
   for (size_t j = 0; j < constraints_.size(); ++j)
     nodes_[j].origin = discretization_->origin(constraints_[j], x[constraints_[j].slave], z);
+  discretization_->set_point_origins();
 }
 
 void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX& z) {

@@ -93,6 +93,16 @@ Real BoundaryTraction::height(Index handle, const std::vector<Index>& facet, Ele
 
 void BoundaryTraction::normal_pressure(Index handle, const std::vector<Index>& facet, const VecX& Nf, const Vec3& n,
                                        const std::vector<Vec3>& x, Real& p, VecX& grad) const {
+  Vec3 t;
+  MatX dt;
+  traction(handle, facet, Nf, n, x, t, dt);
+  const int dim = settings_.spatial_dim();
+  p = -n.head(dim).dot(t.head(dim));
+  grad = -(dt.transpose() * n.head(dim));
+}
+
+void BoundaryTraction::traction(Index handle, const std::vector<Index>& facet, const VecX& Nf, const Vec3& n,
+                                const std::vector<Vec3>& x, Vec3& t, MatX& grad) const {
   const Owner& o = owners_.at(handle);
   const ElementBlock& b = *cells_[o.cells].block;
   const Material& mat = *cells_[o.cells].material;
@@ -161,11 +171,14 @@ void BoundaryTraction::normal_pressure(Index handle, const std::vector<Index>& f
     }
     if (axi && R > 0) B(2, a * dim) += N(a) / R;
   }
-  // sigma_nn = m . S with m the Voigt form of n (x) n (shear components twice).
-  Vec6 m;
-  m << n(0) * n(0), n(1) * n(1), n(2) * n(2), 2 * n(1) * n(2), 2 * n(0) * n(2), 2 * n(0) * n(1);
-  p = -m.dot(S);
-  grad = -(B.transpose() * (D.transpose() * m));
+  // t = sigma n = T S, T the Voigt form of the map sigma -> sigma n (S: xx yy zz yz xz xy).
+  Eigen::Matrix<Real, 3, 6> T = Eigen::Matrix<Real, 3, 6>::Zero();
+  T(0, 0) = n(0), T(0, 4) = n(2), T(0, 5) = n(1);
+  T(1, 1) = n(1), T(1, 3) = n(2), T(1, 5) = n(0);
+  T(2, 2) = n(2), T(2, 3) = n(1), T(2, 4) = n(0);
+  t.setZero();
+  t.head(dim) = (T * S).head(dim);
+  grad = (T * D * B).topRows(dim);
 }
 
 }  // namespace signorini

@@ -4,7 +4,7 @@
 // gradient over the cell's displacements. Small strain, materials without history: sigma is
 // the material's stress at the point (its strain from the cell's shape functions, which the
 // point's facet coordinates give in the cell's reference element), dp/du = -m^T D B with m the
-// Voigt form of n (x) n.
+// Voigt form of n (x) n; its traction t = sigma.n for friction, dt/du = T D B.
 #pragma once
 #include <memory>
 #include <vector>
@@ -39,6 +39,10 @@ class BoundaryTraction {
   // (dim per node).
   void normal_pressure(Index handle, const std::vector<Index>& facet, const VecX& N, const Vec3& n,
                        const std::vector<Vec3>& x, Real& p, VecX& grad) const;
+  // The whole traction t = sigma.n at that point (friction's tangential part) and dt/du (dim
+  // rows, columns as normal_pressure's gradient).
+  void traction(Index handle, const std::vector<Index>& facet, const VecX& N, const Vec3& n,
+                const std::vector<Vec3>& x, Vec3& t, MatX& grad) const;
 
  private:
   struct Owner {

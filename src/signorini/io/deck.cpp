@@ -804,6 +804,9 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
       }
       if (cs.friction != "coulomb" && fn.has("mu")) fn.child("mu").fail("'mu' goes with law: coulomb");
       if (cs.friction != "tresca" && fn.has("bound")) fn.child("bound").fail("'bound' goes with law: tresca");
+      if (fn.has("penalty") && cs.method == "nitsche")
+        fn.child("penalty").fail("'penalty' does not go with method: nitsche (its tangential parameter is its normal "
+                                 "one, gamma0 E / h: set enforcement.gamma)");
       if (fn.has("penalty")) cs.tangential_penalty = auto_or_positive(fn.child("penalty"));
       if (fn.has("stick_predictor")) cs.stick_predictor = fn.child("stick_predictor").as_bool();
     }

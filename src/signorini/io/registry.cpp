@@ -339,7 +339,8 @@ void register_deck_sections(Registry& r) {
           opt(number("bound", "tresca: the largest tangential traction", std::nullopt, 0, INFINITY)),
           text("penalty", "tangential penalty (traction per unit slip; with lagrange the tangential complementarity "
                           "constant), or auto = the normal penalty of the node (lagrange: 0.1 E/h for a node open at "
-                          "the increment's start, E/h for one closed there)",
+                          "the increment's start, E/h for one closed there); not with nitsche, whose tangential "
+                          "parameter is its normal one",
                "auto", ParamKind::any),
           text("stick_predictor", "penalty and augmented_lagrangian: in the increment where the contact zone forms, a "
                                   "node that closes sticks while the normal statuses change, then slips freely (fewer "
@@ -360,7 +361,7 @@ void register_deck_sections(Registry& r) {
                  "lagrange: multipliers, semi-smooth Newton, exact non-penetration; augmented_lagrangian: penalty "
                  "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>; "
                  "nitsche: Nitsche's method on segment_to_segment's integration points (the slave body's stress "
-                 "gives the pressure; small strain, elastic bodies, frictionless)",
+                 "gives the pressure; small strain, elastic bodies; with friction the stress gives the tangential traction too)",
                  {"lagrange", "augmented_lagrangian", "penalty", "nitsche"}, "lagrange"),
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),

@@ -844,6 +844,12 @@ class SegmentToSegment final : public DeformableMaster {
     }
   }
   const std::vector<PointConstraint>* integration_points() const override { return traction_ ? &points_ : nullptr; }
+  void set_point_origins() override {
+    if (!traction_) return;
+    origins_.assign(integration_.size(), {});
+    for (size_t e = 0; e < integration_.size(); ++e) origins_[e].assign(integration_[e].N.size(), {});
+    for (const PointConstraint& pc : points_) origins_[pc.facet][pc.q] = pc.master_point;
+  }
 
   void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     facet_candidates(slave_facets_, index_, x, dmax, tracked, candidates_, motion);
@@ -953,16 +959,24 @@ class SegmentToSegment final : public DeformableMaster {
     std::vector<Index> nodes = r.nodes;
     for (Index n : cell_nodes_[e])
       if (std::find(nodes.begin(), nodes.end(), n) == nodes.end()) nodes.push_back(n);
+    // Friction: the master nodes of the points' slip origins (one list for the facet's points).
+    const bool friction = !origins_.empty();
+    if (friction)
+      for (const IntegrationPointGap& g : pg)
+        for (auto [n, w] : origins_[e][g.q])
+          if (std::find(nodes.begin(), nodes.end(), n) == nodes.end()) nodes.push_back(n);
     const Index m = static_cast<Index>(nodes.size()) * dim_;
     const Index mr = static_cast<Index>(r.nodes.size()) * dim_;
     // Where each cell node sits in `nodes`.
     std::vector<Index> at;
     for (Index n : cell_nodes_[e]) at.push_back(std::find(nodes.begin(), nodes.end(), n) - nodes.begin());
     const Real eps = gamma0_ * traction_->stiffness(cell_[e]) / facet_size_[e];
-    VecX gcell;
+    MatX tcell;
     for (const IntegrationPointGap& g : pg) {
       PointConstraint pc;
       pc.facet = e;
+      pc.q = g.q;
+      pc.master_point = g.master_point;
       pc.weight = f.weight[g.q];
       pc.gap = g.gap;
       pc.nodes = nodes;
@@ -971,11 +985,34 @@ class SegmentToSegment final : public DeformableMaster {
       pc.grad.head(mr) = g.grad;
       pc.hess = g.hess;
       pc.gap_nodes = static_cast<int>(r.nodes.size());
-      traction_->normal_pressure(cell_[e], f.nodes, f.N[g.q], f.normal[g.q], x, pc.pressure, gcell);
-      pc.pressure_grad = VecX::Zero(m);
+      // The slave body's traction t = sigma.nu (nu the facet's reference normal) and its
+      // normal pressure p = -nu.t, with their gradients over `nodes`.
+      const Vec3& nu = f.normal[g.q];
+      traction_->traction(cell_[e], f.nodes, f.N[g.q], nu, x, pc.traction, tcell);
+      pc.traction_grad = MatX::Zero(dim_, m);
       for (size_t a = 0; a < at.size(); ++a)
-        pc.pressure_grad.segment(at[a] * dim_, dim_) = gcell.segment(static_cast<Index>(a) * dim_, dim_);
+        pc.traction_grad.middleCols(at[a] * dim_, dim_) = tcell.middleCols(static_cast<Index>(a) * dim_, dim_);
+      pc.pressure = -nu.head(dim_).dot(pc.traction.head(dim_));
+      pc.pressure_grad = -(pc.traction_grad.transpose() * nu.head(dim_));
+      pc.normal = nu;
       pc.stiffness = eps;
+      // The slip of the increment from the point's origin: d = sum_i N_i x_i - sum_b w_b x_b.
+      if (friction && !origins_[e][g.q].empty()) {
+        pc.has_slip = true;
+        pc.slip_jacobian = MatX::Zero(dim_, m);
+        pc.slip.setZero();
+        for (int i = 0; i < ns; ++i) {
+          const Real Ni = f.N[g.q](i);
+          pc.slip += Ni * x[f.nodes[i]];
+          pc.slip_jacobian.middleCols(static_cast<Index>(i) * dim_, dim_) += Ni * MatX::Identity(dim_, dim_);
+        }
+        for (auto [n, w] : origins_[e][g.q]) {
+          const Index k = std::find(nodes.begin(), nodes.end(), n) - nodes.begin();
+          pc.slip -= w * x[n];
+          pc.slip_jacobian.middleCols(k * dim_, dim_) -= w * MatX::Identity(dim_, dim_);
+        }
+        if (dim_ == 2) pc.slip(2) = 0;
+      }
       for (int j = 0; j < ns; ++j) {
         const Index sj = index_[f.nodes[j]];
         const Real np = std::max<Real>(f.Nt[g.q](j), 0);
@@ -998,6 +1035,9 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<Real> positive_weight_;  // per slave node: int max(N~_j, 0) dA0 (the reported pressure's average)
   Real gamma0_ = 0;
   mutable std::vector<PointConstraint> points_;
+  // Friction: per slave facet and integration point, the master point of its slip origin
+  // (empty: none; the whole vector empty: no friction).
+  std::vector<std::vector<std::vector<std::pair<Index, Real>>>> origins_;
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may meet
   std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
   // Per slave facet: the master facets its points projected on at the last detect or build

@@ -79,6 +79,10 @@ class Discretization {
   // its edges. The others ignore it.
   virtual void hold_facets(std::vector<Index> /*facet*/) {}
   virtual const std::vector<PointConstraint>* integration_points() const { return nullptr; }
+  // Nitsche with friction: each integration point's slip origin, the master point it projects
+  // on in the last build (at the start of the increment); the points of later builds then
+  // carry their slip from it (PointConstraint::has_slip). Others: nothing.
+  virtual void set_point_origins() {}
 
  protected:
   bool second_variation_ = true;

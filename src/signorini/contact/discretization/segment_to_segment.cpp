@@ -176,8 +176,13 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b)
         Hq.block(at[a] * dim, at[b] * dim, dim, dim) += H.block((a + 1) * dim, (b + 1) * dim, dim, dim);
-    if (points) points->push_back({static_cast<int>(q), h.fp.gap, gq, Hq});
     master.basis(h.facet).eval(h.fp.xi, Nm, dNm);
+    if (points) {
+      std::vector<std::pair<Index, Real>> mp;
+      const std::vector<Index>& mn = master.basis_nodes(h.facet);
+      for (int a = 0; a < nm; ++a) mp.emplace_back(mn[a], Nm(a));
+      points->push_back({static_cast<int>(q), h.fp.gap, gq, Hq, std::move(mp)});
+    }
     for (int j = 0; j < ns; ++j) {
       const Real wr = f.Nt[q](j) * f.weight[q];
       const Real w = f.phi[q](j) * f.weight[q];

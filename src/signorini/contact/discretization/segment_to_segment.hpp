@@ -67,6 +67,7 @@ struct IntegrationPointGap {
   Real gap = 0;
   VecX grad;
   MatX hess;
+  std::vector<std::pair<Index, Real>> master_point;  // the master nodes and their shape functions at the projection
 };
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
                             const std::vector<Vec3>& x, int dim, IntegrationResult& out,

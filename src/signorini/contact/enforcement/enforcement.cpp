@@ -404,11 +404,13 @@ class Nitsche final : public Enforcement {
                 EnforcementOutput& out) const override {
     const Index n = static_cast<Index>(in.constraints->size());
     const int dim = in.dim;
+    const bool friction = in.friction != nullptr;
     out.pressure.assign(n, 0.0);
     out.active.assign(n, 0);
-    out.traction.clear();
-    out.slip.clear();
-    out.cone_excess.clear();
+    out.traction.assign(friction ? n : 0, Vec3::Zero());
+    out.slip.assign(friction ? n : 0, 0);
+    out.cone_excess.assign(friction ? n : 0, 0.0);
+    out.point_slip.clear();
     out.has_slave_force = true;
     out.slave_force.setZero();
     if (!in.points) throw Error("nitsche: the discretization gave no integration points (segment_to_segment needed)");
@@ -432,6 +434,11 @@ class Nitsche final : public Enforcement {
     });
     const Real theta = theta_;
     std::vector<Real> positive(pts.size(), 0.0);  // [P]_+ per point
+    // Friction, per point: the traction on the slave, tau_T = proj(Q), whether it slipped,
+    // and |Q| - bound.
+    std::vector<Vec3> tau(friction ? pts.size() : 0, Vec3::Zero());
+    std::vector<char> slipped(friction ? pts.size() : 0, 0);
+    std::vector<Real> excess(friction ? pts.size() : 0, 0.0);
     // The bound on P in the gap's second variation: twice the largest pressure the slave
     // body's stress gives at any point (see above the class).
     Real bound = 0;
@@ -457,7 +464,11 @@ class Nitsche final : public Enforcement {
             // P = 0 at g = 0 (a point that just touches, no stress yet) counts as active: zero
             // force, but its stiffness (either branch is a valid Newton derivative at the kink),
             // so a body held only by contact can start from touching.
-            if (P > 0 || (P == 0 && pc.gap <= 0)) {
+            const bool active = P > 0 || (P == 0 && pc.gap <= 0);
+            if (friction && pc.has_slip)
+              add_friction(*in.friction, pc, active, P, theta, dim, r, K ? &k : nullptr, tau[q], slipped[q], excess[q],
+                           force);
+            if (active) {
               r.noalias() += (w * P) * pc.grad + (theta * w * pc.gap) * pc.pressure_grad;
               if (K) {
                 k.noalias() += (w * eps) * pc.grad * pc.grad.transpose();
@@ -485,9 +496,73 @@ class Nitsche final : public Enforcement {
       if (positive[q] > 0)
         for (const auto& [j, share] : pts[q].shares) out.pressure[j] += share * positive[q];
     for (Index j = 0; j < n; ++j) out.active[j] = out.pressure[j] > 0;
+    if (!friction) return;
+    // Per node (output, the slip record): the traction on the master (minus the slave's) and
+    // |Q| - bound averaged as the pressure is; slip when the shares of its active points that
+    // slip outweigh those that stick.
+    std::vector<Real> vote(n, 0.0);
+    for (size_t q = 0; q < pts.size(); ++q)
+      if (positive[q] > 0 && pts[q].has_slip)
+        for (const auto& [j, share] : pts[q].shares) {
+          out.traction[j] -= share * tau[q];
+          out.cone_excess[j] += share * excess[q];
+          vote[j] += slipped[q] ? share : -share;
+        }
+    for (Index j = 0; j < n; ++j) out.slip[j] = out.active[j] && vote[j] > 0;
+    out.point_slip.assign(pts.size(), -1);
+    for (size_t q = 0; q < pts.size(); ++q)
+      if (positive[q] > 0 && pts[q].has_slip) out.point_slip[q] = slipped[q];
   }
 
  private:
+  // Coulomb/Tresca friction at an integration point with Nitsche's method (Chouly 2014 for
+  // Tresca; Renard 2013 and Chouly, Fabre, Hild, Mlika, Pousin & Renard 2017 for Coulomb; the
+  // theta family as in Chouly, Hild & Renard 2015; docs/contact.md (N2)): with nu the slave
+  // facet's normal, P_T = I - nu nu^T, sigma_T = P_T t the slave body's tangential traction,
+  // s = P_T d the slip of the increment and eps Nitsche's parameter,
+  //   Q = sigma_T - eps s,  tau = proj(Q) onto the disc |tau| <= bound([P]_+) (0 at an open point),
+  //   R_T = w D_T^T tau + (theta / eps) w G^T (sigma_T - tau),   D_T = P_T D, G = P_T dt/du,
+  // the tangential half of R_c = w (tau . delta(x_s - x_m)) + (theta / eps) w (sigma n - tau) . delta(sigma n)
+  // whose normal half is (N1): the exact solution has sigma_T = tau (the traction is the
+  // frictional one) and tau = 0 where the point is open. Tangent (small strain: D, G constant):
+  //   K_T = -w D_T^T dtau - (theta / eps) w G^T (G - dtau),
+  //   dtau = A (G - eps D_T) + b bound'(P) (grad p - eps grad g)^T  (active; 0 open),
+  // A, b the return map's derivatives in Q and in the bound. The slave's force w tau
+  // (sum_i N_i = 1) joins the normal one.
+  static void add_friction(const FrictionLaw& law, const PointConstraint& pc, bool active, Real P, Real theta, int dim,
+                           VecX& r, MatX* k, Vec3& tau, char& slipped, Real& excess, Vec3& force) {
+    const Real w = pc.weight, eps = pc.stiffness;
+    const VecX nu = pc.normal.head(dim);
+    const MatX PT = MatX::Identity(dim, dim) - nu * nu.transpose();
+    const MatX G = PT * pc.traction_grad;
+    const MatX DT = PT * pc.slip_jacobian;
+    const VecX sigma = PT * pc.traction.head(dim);
+    Vec3 Q = Vec3::Zero();
+    Q.head(dim) = sigma - eps * (PT * pc.slip.head(dim));
+    VecX t = VecX::Zero(dim);
+    MatX dtau = MatX::Zero(dim, pc.grad.size());
+    if (active) {
+      const Real bound = law.bound(P);
+      const ReturnMap rm = return_map(Q, bound);
+      t = rm.traction.head(dim);
+      slipped = rm.slip;
+      excess = Q.norm() - bound;
+      if (k) {
+        dtau = rm.d_trial.topLeftCorner(dim, dim) * (G - eps * DT);
+        const Real db = law.bound_derivative(P);
+        if (db != 0) dtau += (db * rm.d_bound.head(dim)) * (pc.pressure_grad - eps * pc.grad).transpose();
+      }
+    }
+    tau.setZero();
+    tau.head(dim) = t;
+    r.noalias() += w * (DT.transpose() * t) + (theta * w / eps) * (G.transpose() * (sigma - t));
+    if (k) {
+      k->noalias() -= w * (DT.transpose() * dtau);
+      k->noalias() -= (theta * w / eps) * (G.transpose() * (G - dtau));
+    }
+    force.head(dim) += w * t;
+  }
+
   int theta_;
   bool exact_;
 };

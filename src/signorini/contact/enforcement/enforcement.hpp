@@ -16,6 +16,8 @@
 // (docs/contact.md): theta = 1 is the symmetric variant (the derivative of a potential),
 // 0 the incomplete and -1 the skew-symmetric one. The exact solution satisfies it (p is the
 // contact pressure, g = 0 where it is positive): no penetration beyond the discretization's.
+// With friction, each point's tangential traction is the slave body's sigma_T, returned with
+// Q = sigma_T - eps s onto the friction disc (docs/contact.md (N2)).
 // Residual convention: R = f_ext - f_int + f_contact, tangent -dR/dz.
 #pragma once
 #include <memory>
@@ -59,6 +61,8 @@ struct EnforcementOutput {
   std::vector<Real> cone_excess;  // friction: |t_trial| - bound (> 0: outside the disc)
   // Nitsche: the contact force on the slave side, summed over the points (the nodal pressures
   // are a projection of the points' and do not give it exactly).
+  // Nitsche with friction, per integration point: -1 open or without a slip origin, 0 stick, 1 slip.
+  std::vector<signed char> point_slip;
   bool has_slave_force = false;
   Vec3 slave_force = Vec3::Zero();
 };
