@@ -107,12 +107,13 @@ INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridSegmentToSegment, ::testing::Values
 // majority of the node's active points. Measured (one run each, no cutback): c/a -4.4 % at
 // mu 0.3, Q/(mu P) 0.6 and -3.8 % at mu 0.8, 0.2 (segment_to_segment's multipliers: -4.4 and
 // -1.2 %; at mu 0.3 the same stick zone to 1e-6); P 388.390 N/mm against their 388.396;
-// Newton iterations 14 + 11 and 14 + 8 (the press
-// takes 12 without friction: the bound on the gap's second variation, docs/contact.md). The
-// guard is 13 per increment.
+// Newton iterations 17 + 11 and 11 + 8 with the line search that Nitsche's friction takes
+// (ContactInterface::full_newton_steps; 14 + 11 and 14 + 8 with full steps; the press takes 12
+// without friction: the bound on the gap's second variation, docs/contact.md). The guard is 15
+// per increment.
 class FrictionGridNitsche : public ::testing::TestWithParam<test::GridCase> {};
 
-TEST_P(FrictionGridNitsche, ConvergesWithDefaultsAndMatchesCattaneoMindlin) { check_grid_case(GetParam(), 13); }
+TEST_P(FrictionGridNitsche, ConvergesWithDefaultsAndMatchesCattaneoMindlin) { check_grid_case(GetParam(), 15); }
 
 INSTANTIATE_TEST_SUITE_P(Coarse, FrictionGridNitsche,
                          ::testing::Values(test::GridCase{0.3, 0.6, "nitsche", 0.01, 1.0, "segment_to_segment"},
