@@ -182,6 +182,13 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) { check_uniform_s
 // exact non-matching patch test needs segment-based integration (3D mortar, issue 14). A quad9
 // punch on a tet10 foundation is left out: its residual stagnates above 1e-4 of the force
 // scale (7.5e-5 to 1e-4 at the first increments) and the increment is cut back until it gives up.
+// Nitsche, hex8 punches on tet4 and tet10 foundations: the nodes match, but the master
+// triangles' diagonals cross the quad4 slave facets (through three of their nine Gauss points),
+// so the integration is not exact either. Measured: pressure spread 0.42 % and 0.32 %, max
+// |sigma_zz + p| 0.75 % and 1.7 % of p; asserted within 2 %. Before the points were held on
+// their master facet (integration_point_gaps' `held`) the points on the diagonals changed facet
+// from one iterate to the next and Newton cycled: 25 iterations to 4e-6 on tet4, no
+// convergence on tet10 (cut back to the minimum increment); now 2 and 4 iterations.
 INSTANTIATE_TEST_SUITE_P(
     Facets, ContactPatch3d,
     ::testing::Values(Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "lagrange", 1e-8},
@@ -190,7 +197,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet4, ElementType::hex20, 2, "lagrange", 1e-8},
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-2},
                       Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-2},
-                      Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-2}),
+                      Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-2},
+                      Patch3dCase{ElementType::hex8, ElementType::tet4, 2, "nitsche", 2e-2},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 2, "nitsche", 2e-2}),
     case_name);
 
 // Segment-based mortar (linear facets): the master facets clipped on each slave facet and the
@@ -309,20 +318,18 @@ INSTANTIATE_TEST_SUITE_P(
 // and its variation, MasterSurface::node_normal_jacobian_3d; mortar: averaged over its facets'
 // cells, non-matching tri3 and quad4 pairings, one per method), the whole foundation top as
 // master: pressed as above, then the punch top is moved by 0.1 along x (the punch's elastic
-// shear takes some 0.01), so that every contact node slips. Coulomb's law then holds at every
-// node, |t_j| = mu p_j, and the force on the punch top balances the friction forces: their
-// magnitudes sum to mu P (P = 4 p) and they point against the motion, so Q_x <= mu P, and close
-// to it: the held top tilts the pressure towards the leading edge and the y-anchors of the two
-// bodies (the punch at y = 1, the foundation at y = 0) give the slips a y part (measured: Q_x
-// 4.3 to 6.2 % below mu P, Q_y 2.5 to 3.8 % of P: the directions' spread). Asserted: every
-// closed node slipping, |t_j| = mu p_j to 1e-6, 0.9 mu P < Q_x <= mu P. Linear master facets
-// only: on tri6, quad8 and quad9 masters (tet10, hex20 foundations) one to three slave nodes
-// chatter between stick and slip, are held in stick by the chattering guard and end stuck
-// (Q_x 25 to 35 % below mu P), so the compatibility table refuses friction there. The likely
-// cause is this model's anchoring: the foundation is held in x and y at one bottom node, which
-// gives way on quadratic cells, and its top follows the punch. Held in x and y along its whole
-// bottom, every node slips on tet10, hex20 and hex27 foundations too (docs/contact.md, the
-// compatibility table).
+// shear takes some 0.01) with the foundation's bottom held in x and y, so that every contact
+// node slips. Coulomb's law then holds at every node, |t_j| = mu p_j, and the force on the
+// punch top balances the friction forces: their magnitudes sum to mu P (P = 4 p) and they point
+// against the motion, so Q_x <= mu P, and close to it: the held top tilts the pressure towards
+// the leading edge and the punch's y-anchors give the slips a y part (measured: Q_x 2.1 to
+// 3.7 % below mu P, Q_y 0.1 to 0.5 % of P). Asserted: every closed node slipping,
+// |t_j| = mu p_j to 1e-6, 0.9 mu P < Q_x <= mu P. Linear punches on quadratic foundations too
+// (tet10, hex20, hex27: tri6, quad8, quad9 master facets; Q_x 3.0 to 3.7 % below mu P). Until
+// session 33 the slide held the foundation at one bottom node only: on quadratic cells that
+// node gave way, the foundation's top followed the punch, one to three slave nodes stayed in
+// stick and Q_x ended 25 to 50 % below mu P, which the compatibility table took for a defect of
+// friction on quadratic masters and refused.
 namespace {
 // The friction patch's model: the press above with Coulomb friction mu, the whole foundation
 // top as master (the punch slides beyond the footprint), then a step that moves the punch top
@@ -334,9 +341,12 @@ Model sliding_patch_model(const Patch3dCase& c, Real E, Real nu, Real p, Real mu
   model.contacts[0].friction_parameter = mu;
   model.contacts[0].master = "lower_zmax";
   Step slide = model.steps[0];
-  slide.dirichlet = {test::fix("lower_zmin", 2), test::fix("origin", 0),       test::fix("origin", 1),
-                     test::fix("x_axis", 1),     test::fix("upper_zmax", 0, 0.1), test::fix("punch_a", 1, exx * 1),
-                     test::fix("punch_b", 1, exx * 1)};
+  // The foundation's bottom held in x and y where the press left it (one pinned node gives way
+  // on quadratic cells and the foundation's top then follows the punch).
+  DirichletCondition hold_x = test::fix("lower_zmin", 0), hold_y = test::fix("lower_zmin", 1);
+  hold_x.hold = hold_y.hold = true;
+  slide.dirichlet = {test::fix("lower_zmin", 2), hold_x, hold_y, test::fix("upper_zmax", 0, 0.1),
+                     test::fix("punch_a", 1, exx * 1), test::fix("punch_b", 1, exx * 1)};
   model.steps.push_back(slide);
   return model;
 }
@@ -392,10 +402,11 @@ TEST_P(ContactPatch3dFriction, SlidingPunchObeysCoulombAtEveryNode) {
 // Asserted: every active point slips (the enforcement's status), its trial traction
 // Q = P_T (t - eps d), recomputed here from the point's traction and slip, outside its disc
 // mu [P]_+ (to 1e-6: the status agrees with the point's data), and 0.9 mu P < Q_x <= mu P
-// for the force on the punch top as above. Measured: Q_x 4.9-5.9 % below mu P; 1 + 10, 7 + 12
-// and 3 + 25 Newton iterations (the non-matching tet4 slide stagnates at 9.5e-7, a jump of
-// the residual where points cross master edges, accepted as for segment_to_segment's
-// multipliers).
+// for the force on the punch top as above. Linear and quadratic punches on linear and
+// quadratic foundations, matching and not. Measured: Q_x 1.7 to 3.7 % below mu P; 10 to 28
+// Newton iterations for the press and the slide together (the non-matching tet4 punch's slide
+// stagnated at 9.5e-7 and took 3 + 25 before the points were held on their master facet,
+// integration_point_gaps; now 12).
 class ContactPatch3dFrictionNitsche : public ::testing::TestWithParam<Patch3dCase> {};
 
 TEST_P(ContactPatch3dFrictionNitsche, SlidingPunchObeysCoulombAtEveryIntegrationPoint) {
@@ -445,7 +456,13 @@ INSTANTIATE_TEST_SUITE_P(
     Facets, ContactPatch3dFrictionNitsche,
     ::testing::Values(Patch3dCase{ElementType::hex8, ElementType::hex8, 2, "nitsche", 0},
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "nitsche", 0},
-                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "nitsche", 0}),
+                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "nitsche", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::hex27, 2, "nitsche", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::hex20, 2, "nitsche", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 2, "nitsche", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::tet4, 2, "nitsche", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::tet10, 2, "nitsche", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 3, "nitsche", 0}),
     case_name);
 
 INSTANTIATE_TEST_SUITE_P(
@@ -455,6 +472,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "penalty", 0},
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 2, "augmented_lagrangian", 0},
                       Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "lagrange", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 2, "lagrange", 0},
+                      Patch3dCase{ElementType::hex8, ElementType::hex20, 2, "penalty", 0},
+                      Patch3dCase{ElementType::tet10, ElementType::hex27, 2, "augmented_lagrangian", 0},
                       Patch3dCase{ElementType::hex8, ElementType::hex8, 3, "lagrange", 0, "mortar"},
                       Patch3dCase{ElementType::tet4, ElementType::tet4, 3, "lagrange", 0, "mortar"},
                       Patch3dCase{ElementType::hex8, ElementType::tet4, 3, "penalty", 0, "mortar"},

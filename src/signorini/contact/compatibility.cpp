@@ -83,18 +83,6 @@ const std::vector<Rule>& rules() {
          return "self-contact with mortar in 3D takes linear facets (tri3, quad4) so far, not " +
                 std::string(element_info(c.slave_facet).name) + ": use node_to_segment";
        }},
-      {"segment_to_segment with friction on quadratic master facets in 3D",
-       [](const ContactCombination& c) {
-         return c.discretization == "segment_to_segment" && c.friction != "none" && !is_2d(c.dimension) &&
-                !c.rigid() && !linear(c.master_facet);
-       },
-       "friction",
-       [](const ContactCombination&) {
-         return std::string("segment_to_segment with friction needs linear master facets (tri3, quad4) in 3D so far: "
-                            "on tri6, quad8 and quad9 masters slave nodes chatter between stick and slip and end held "
-                            "in stick while the surface slides (the 3D sliding patch test); make the linear side "
-                            "master or use node_to_segment");
-       }},
       {"a rigid sphere in plane strain or plane stress",
        [](const ContactCombination& c) {
          return c.discretization == "rigid_sphere" &&

@@ -856,11 +856,12 @@ class SegmentToSegment final : public DeformableMaster {
     // The facets the points project on now, for the sparse pattern (coupled_nodes).
     const Index ne = slave_facets_.size();
     hits_.assign(ne, {});
+    held_.resize(ne);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
       IntegrationResult r;
-      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r);
+      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, nullptr, &held_[e]);
       hits_[e] = std::move(r.hit);
     }
     if (log::level() <= log::Level::debug) {
@@ -904,12 +905,14 @@ class SegmentToSegment final : public DeformableMaster {
     std::vector<std::vector<IntegrationResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
     std::vector<std::vector<PointConstraint>> points(traction_ ? ne : 0);
+    held_.resize(ne);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
       IntegrationResult r;
       std::vector<IntegrationPointGap> pg;
-      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, traction_ ? &pg : nullptr);
+      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, traction_ ? &pg : nullptr,
+                             &held_[e]);
       hits_[e] = r.hit;
       if (r.points == 0) continue;
       if (traction_) nitsche_points(e, r, pg, x, points[e]);
@@ -1043,6 +1046,8 @@ class SegmentToSegment final : public DeformableMaster {
   // Per slave facet: the master facets its points projected on at the last detect or build
   // (the sparse pattern's; build updates it, so a rebuilt pattern follows the sliding).
   mutable std::vector<std::vector<Index>> hits_;
+  // Per slave facet and point: the master facet the point is held on (integration_point_gaps).
+  mutable std::vector<std::vector<Index>> held_;
 };
 
 // A rigid analytic obstacle, moved by its own unknowns: dim translations and, when a step turns

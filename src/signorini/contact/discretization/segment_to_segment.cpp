@@ -73,8 +73,9 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
 
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
                             const std::vector<Vec3>& x, int dim, IntegrationResult& out,
-                            std::vector<IntegrationPointGap>* points) {
+                            std::vector<IntegrationPointGap>* points, std::vector<Index>* held) {
   if (points) points->clear();
+  if (held) held->resize(f.N.size(), -1);
   const int ns = static_cast<int>(f.nodes.size());
   out = IntegrationResult{};
   out.nodes = f.nodes;
@@ -110,11 +111,27 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
   for (size_t q = 0; q < f.N.size(); ++q) {
     Vec3 p = Vec3::Zero();
     for (int i = 0; i < ns; ++i) p += f.N[q](i) * x[f.nodes[i]];
-    for (size_t k = 0; k < nc; ++k) {
-      const Vec3 d = (lo[k] - p).cwiseMax(p - hi[k]).cwiseMax(Vec3::Zero());
-      order[k] = {d.norm(), k};
+    // The facet the point was held on, while its projection stays inside it (edge tolerance).
+    if (held && (*held)[q] >= 0) {
+      const auto it = std::find(candidates.begin(), candidates.end(), (*held)[q]);
+      if (it != candidates.end()) {
+        const size_t k = static_cast<size_t>(it - candidates.begin());
+        FacetProjection fp = project_on_facet(master.basis(*it), cx[k], p, dim, kEdgeTolerance);
+        if (fp.inside) {
+          hits[q] = {*it, fp, cx[k]};
+        }
+      }
     }
-    std::sort(order.begin(), order.end());
+    if (hits[q].facet < 0) {
+      order.resize(nc);
+      for (size_t k = 0; k < nc; ++k) {
+        const Vec3 d = (lo[k] - p).cwiseMax(p - hi[k]).cwiseMax(Vec3::Zero());
+        order[k] = {d.norm(), k};
+      }
+      std::sort(order.begin(), order.end());
+    } else {
+      order.clear();
+    }
     Real best = std::numeric_limits<Real>::infinity();
     bool best_strict = false;
     for (auto [box_distance, k] : order) {
@@ -132,6 +149,7 @@ void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& mast
         hits[q].xf = cx[k];
       }
     }
+    if (held) (*held)[q] = hits[q].facet;
     if (hits[q].facet >= 0) {
       if (std::find(out.hit.begin(), out.hit.end(), hits[q].facet) == out.hit.end()) out.hit.push_back(hits[q].facet);
       for (Index nd : master.basis_nodes(hits[q].facet)) column(nd);

@@ -69,8 +69,15 @@ struct IntegrationPointGap {
   MatX hess;
   std::vector<std::pair<Index, Real>> master_point;  // the master nodes and their shape functions at the projection
 };
+// `held` (optional, one entry per point): the master facet each point projected on at the last
+// evaluation (-1: none), kept while the point's projection on it stays inside it within the
+// edge tolerance, and updated. A point on the edge between two master facets that meet at an
+// angle otherwise changes facet, and with it the direction of its force, from one Newton
+// iterate to the next (the nearest of the two projections flips with round-off-sized motions),
+// and Newton cycles between the two (the 3D patch with quad4 slave facets over triangle masters,
+// whose diagonals run through the slave facets' Gauss points).
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,
                             const std::vector<Vec3>& x, int dim, IntegrationResult& out,
-                            std::vector<IntegrationPointGap>* points = nullptr);
+                            std::vector<IntegrationPointGap>* points = nullptr, std::vector<Index>* held = nullptr);
 
 }  // namespace signorini
