@@ -321,7 +321,7 @@ void register_deck_sections(Registry& r) {
                  "tri3 and quad4 facets in 3D), or "
                  "segment_to_segment "
                  "(the slave facets' Gauss points projected on the master, gathered per slave node with dual weights; "
-                 "2D and 3D, every facet type incl. tri6 and quad8; friction in 2D, and in 3D on linear master facets)",
+                 "2D and 3D, every facet type incl. tri6 and quad8, with friction)",
                  {"node_to_segment", "node_to_node", "mortar", "segment_to_segment"}, "node_to_segment"),
           number("passes", "2: each surface is also slave of the other (node_to_segment)", "1", 1, 2),
           choice("smoothing", "node_to_segment: hermite = in 2D a C1 cubic master curve through the nodes, in 3D "
