@@ -10,6 +10,7 @@
 
 #include <omp.h>
 
+#include <random>
 #include <set>
 
 #include "common.hpp"
@@ -268,6 +269,28 @@ void check_combination(const ContactCombination& c, int theta = 1) {
     }
     const Real h = 1e-7;
     Real err = 0;
+    const Real maxk = K.k.cwiseAbs().maxCoeff();
+    if (!std::getenv("SIGNORINI_GRID_COLUMNS")) {
+      // Central differences along 6 pseudo-random directions v over the involved unknowns
+      // (components uniform in [-1, 1], a fixed seed): K v against -(r(z + h v) - r(z - h v)) / 2h,
+      // 12 residuals instead of two per involved unknown. A wrong entry K_ij shows in (K v)_i
+      // unless v_j is tiny in all six: checked here on every row, the error K v would have with
+      // one entry off by 1e-5 max |K| (the first involved row, the last involved column) must
+      // exceed the tolerance. SIGNORINI_GRID_COLUMNS=1: column by column (the long ctests).
+      std::mt19937 rng(12345);
+      const Index i0 = *involved.begin(), j0 = *involved.rbegin();
+      Real seen = 0;
+      for (int k = 0; k < 6; ++k) {
+        VecX v = VecX::Zero(nz);
+        for (Index j : involved) v(j) = 2.0 * (static_cast<Real>(rng()) / 4294967295.0) - 1.0;
+        const VecX d = -(residual(zc + h * v, nullptr) - residual(zc - h * v, nullptr)) / (2 * h);
+        const VecX e = d - K.k * v;
+        err = std::max(err, e.cwiseAbs().maxCoeff());
+        seen = std::max(seen, std::abs(e(i0) - 1e-5 * maxk * v(j0)));
+      }
+      EXPECT_GT(seen, 1e-6 * maxk) << "the directions would not see an entry off by 1e-5 max |K|";
+      involved.clear();
+    }
     for (Index j : involved) {
       VecX zp = zc, zm = zc;
       zp(j) += h;
@@ -281,7 +304,6 @@ void check_combination(const ContactCombination& c, int theta = 1) {
                     -(residual(zc, nullptr) - residual(zm, nullptr))(row) / h);
       err = std::max(err, e);
     }
-    const Real maxk = K.k.cwiseAbs().maxCoeff();
     std::printf("%s%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
                 c.text().c_str(), c.method == "nitsche" ? (" theta " + std::to_string(theta)).c_str() : "", (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
                 maxk);
@@ -324,61 +346,33 @@ TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
     }
 }
 
-// The 3D table but mortar and Nitsche. segment_to_segment on quadratic slave facets (tri6,
-// quad8, quad9) costs 1.5-3 s a row, 106 s for its 45 frictionless rows alone: by default its
-// frictionless rows run with Lagrange multipliers only and its Tresca rows not at all (the
-// methods differ from one another in the normal law, and Tresca from Coulomb in the friction
-// law, which the linear slaves' rows check with every method; the quadratic slaves' kinematics
-// is in every Lagrange row and every Coulomb row). Friction on quadratic masters (tri6, quad8,
-// quad9): by default the Coulomb rows of linear slaves (every method) and of the tet10 pair
-// (tri6 on tri6). With SIGNORINI_GRID_ALL=1 (the ctest
-// long.TangentGrid.Every3DCombinationWithEveryRow, label long) every row.
+// The 3D table but mortar and Nitsche: every row (561), in about 14 s with the directional
+// central differences (100 s column by column for 486 of them; the ctest
+// long.TangentGrid.Every3DCombinationColumnByColumn, label long, checks every row column by column).
 TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {
   OneThread one;
-  const bool all = std::getenv("SIGNORINI_GRID_ALL") != nullptr;
-  auto quadratic = [](ElementType t) {
-    return t == ElementType::tri6 || t == ElementType::quad8 || t == ElementType::quad9;
-  };
-  int rows = 0, left_out = 0;
+  int rows = 0;
   for (const ContactCombination& c : supported_contact_combinations())
     if (c.dimension == Dimension::three_d && c.method != "nitsche" && c.discretization != "mortar" && selected(c)) {
-      // Friction on quadratic masters: by default the linear slaves' Coulomb rows and the tet10
-      // pair's (tri6 on tri6).
-      const bool quadratic_master_friction = !all && c.discretization == "segment_to_segment" &&
-                                             quadratic(c.master_facet) && c.friction != "none" &&
-                                             !(c.friction == "coulomb" && (!quadratic(c.slave_facet) ||
-                                                                           (c.slave_facet == ElementType::tri6 &&
-                                                                            c.master_facet == ElementType::tri6)));
-      if (quadratic_master_friction ||
-          (!all && c.discretization == "segment_to_segment" && quadratic(c.slave_facet) &&
-           (c.friction == "tresca" || (c.friction == "none" && c.method != "lagrange")))) {
-        ++left_out;
-        continue;
-      }
       check_combination(c);
       ++rows;
     }
-  std::printf("%d 3D rows checked, %d left to the long suite\n", rows, left_out);
-  if (!std::getenv("SIGNORINI_GRID_FILTER")) {
-    EXPECT_EQ(rows + left_out, 561) << "the 3D table (but mortar and Nitsche) changed: update the counts";
-    EXPECT_EQ(left_out, all ? 0 : 117)
-        << "segment_to_segment, quadratic slaves: 30 frictionless rows of penalty and the augmented Lagrangian, 45 "
-           "Tresca rows (18 on linear masters); on quadratic masters 18 Tresca rows of linear slaves and 24 Coulomb "
-           "rows of quadratic slaves but tri6 on tri6";
-  }
+  std::printf("%d 3D rows checked\n", rows);
+  if (!std::getenv("SIGNORINI_GRID_FILTER"))
+    EXPECT_EQ(rows, 561) << "the 3D table (but mortar and Nitsche) changed: update the count";
 }
 
 // 3D mortar's combinations on their own (its weighted gaps' derivatives are hyper-dual numbers
-// over up to 52 coordinates per pair of facets), beside the rest of the 3D table. Linear slaves
-// on linear masters: 36 rows, 37 s (305 s before the residuals of the central differences were
-// differentiated to first order only, Discretization::set_second_variation). Linear slaves on
-// quadratic masters (tri6, quad8, quad9: 54 rows, 5.6 s each): the Coulomb rows here (every
-// method; they hold open, closed, stick and slip nodes). Quadratic slaves (tri6, quad8, quad9 on
-// every master: 135 rows, 30 s and more each): here the tet10 pair, tri6 on tri6 with Lagrange
-// multipliers and Coulomb friction. With SIGNORINI_GRID_ALL=1 (the ctest
-// long.TangentGrid.Every3DMortarCombinationWithEveryFriction, label long) every linear slave's row
-// and the quadratic slaves' Coulomb rows (every method and master: frictionless and Tresca
-// differ from Coulomb in the friction law only, which the linear rows check).
+// over up to 52 coordinates per pair of facets; the residuals of the central differences are
+// differentiated to first order only, Discretization::set_second_variation), beside the rest of
+// the 3D table. Every linear slave's row (tri3, quad4 on every master: 108 rows, 18 of them
+// self-contact) and the tet10 pair's, tri6 on tri6 with Lagrange multipliers and Coulomb
+// friction. Quadratic slaves (tri6, quad8, quad9) cost about a second a row even with the
+// directional differences (the Newton matrix's second derivatives), and 30 s and more column by
+// column: their 45 Coulomb rows (every method and master; frictionless and Tresca differ from
+// Coulomb in the friction law only, which the linear rows check) with SIGNORINI_GRID_ALL=1 (70 s
+// in all; the ctest long.TangentGrid.Every3DMortarCombinationColumnByColumn, label long, checks
+// these 153 rows column by column).
 TEST(TangentGrid, Every3DMortarCombinationMatchesCentralDifferences) {
   OneThread one;
   const bool all = std::getenv("SIGNORINI_GRID_ALL") != nullptr;
@@ -390,46 +384,32 @@ TEST(TangentGrid, Every3DMortarCombinationMatchesCentralDifferences) {
         const bool tet10 = c.slave_facet == ElementType::tri6 && c.master_facet == ElementType::tri6 &&
                            c.method == "lagrange";
         if (c.friction != "coulomb" || !(all || tet10)) continue;
-      } else if (!linear(c.master_facet) && c.friction != "coulomb" && !all) {
-        continue;
       }
       check_combination(c);
       ++rows;
     }
   std::printf("%d 3D mortar rows checked\n", rows);
   if (!std::getenv("SIGNORINI_GRID_FILTER")) {
-    EXPECT_EQ(rows, all ? 153 : 73) << "linear slaves: 54 on linear masters (18 of them self-contact), 54 on quadratic "
-                                      "masters (18 Coulomb); quadratic slaves: 45 Coulomb rows (1 by default)";
+    EXPECT_EQ(rows, all ? 153 : 109) << "linear slaves: 54 on linear masters (18 of them self-contact), 54 on quadratic "
+                                       "masters; quadratic slaves: 45 Coulomb rows (1 by default)";
   }
 }
 
-// Nitsche's 3D combinations on their own (its residual reads the cells' stress, and its
-// central differences cost about as much as the rest of the 3D table), so that ctest -j runs
-// the two side by side: the 25 frictionless rows (90 s) and 17 Coulomb ones (about 2.5 s each):
-// the 10 on linear masters, the 6 of linear slaves on quadratic masters and the tet10 pair's
-// (tri6 on tri6). Tresca differs from Coulomb in the friction law only, and the other quadratic
-// slaves on quadratic masters in the facets' shape functions only: their 33 rows with
-// SIGNORINI_GRID_ALL=1 (the ctest long.TangentGrid.Every3DNitscheCombinationWithEveryRow, label long).
+// Nitsche's 3D combinations on their own (its residual reads the cells' stress), every row:
+// 25 frictionless, 25 Coulomb and 25 Tresca, in about 9 s with the directional central
+// differences (the ctest long.TangentGrid.Every3DNitscheCombinationColumnByColumn, label long:
+// column by column, 207 s).
 TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
   OneThread one;
-  const bool all = std::getenv("SIGNORINI_GRID_ALL") != nullptr;
   int rows = 0;
   for (const ContactCombination& c : supported_contact_combinations())
     if (c.dimension == Dimension::three_d && c.method == "nitsche" && selected(c)) {
-      // By default no Tresca row, and on quadratic masters the Coulomb rows of linear slaves
-      // and of the tet10 pair (tri6 on tri6).
-      const bool quadratic_master = c.master_facet != ElementType::tri3 && c.master_facet != ElementType::quad4;
-      const bool linear_slave = c.slave_facet == ElementType::tri3 || c.slave_facet == ElementType::quad4;
-      const bool tet10 = c.slave_facet == ElementType::tri6 && c.master_facet == ElementType::tri6;
-      if (!all && (c.friction == "tresca" || (c.friction == "coulomb" && quadratic_master && !linear_slave && !tet10)))
-        continue;
       check_combination(c);
       ++rows;
     }
   std::printf("%d 3D Nitsche rows checked\n", rows);
   if (!std::getenv("SIGNORINI_GRID_FILTER"))
-    EXPECT_EQ(rows, all ? 75 : 42) << "25 frictionless rows, 25 Coulomb (17 by default: 10 on linear masters, 6 of "
-                                      "linear slaves on quadratic masters, tri6 on tri6) and 25 Tresca rows";
+    EXPECT_EQ(rows, 75) << "25 frictionless, 25 Coulomb and 25 Tresca rows";
 }
 
 // Nitsche reads the slave body's stress: a slave facet that no deformable cell owns (here the
