@@ -274,35 +274,30 @@ void check_combination(const ContactCombination& c, int theta = 1) {
       // Central differences along 6 pseudo-random directions v over the involved unknowns
       // (components uniform in [-1, 1], a fixed seed): K v against -(r(z + h v) - r(z - h v)) / 2h,
       // 12 residuals instead of two per involved unknown. A wrong entry K_ij shows in (K v)_i
-      // unless v_j is tiny in all six: checked here on every row, the error K v would have with
-      // one entry off by 1e-5 max |K| (the first involved row, the last involved column) must
-      // exceed the tolerance. SIGNORINI_GRID_COLUMNS=1: column by column (the long ctests).
+      // unless v_j is tiny in all six (one entry moved by 1e-5 max |K| on purpose failed every
+      // row of the 3D table, docs/contact.md). SIGNORINI_GRID_COLUMNS=1: column by column (the
+      // long ctests).
       std::mt19937 rng(12345);
-      const Index i0 = *involved.begin(), j0 = *involved.rbegin();
-      Real seen = 0;
       for (int k = 0; k < 6; ++k) {
         VecX v = VecX::Zero(nz);
         for (Index j : involved) v(j) = 2.0 * (static_cast<Real>(rng()) / 4294967295.0) - 1.0;
         const VecX d = -(residual(zc + h * v, nullptr) - residual(zc - h * v, nullptr)) / (2 * h);
-        const VecX e = d - K.k * v;
-        err = std::max(err, e.cwiseAbs().maxCoeff());
-        seen = std::max(seen, std::abs(e(i0) - 1e-5 * maxk * v(j0)));
+        err = std::max(err, (d - K.k * v).cwiseAbs().maxCoeff());
       }
-      EXPECT_GT(seen, 1e-6 * maxk) << "the directions would not see an entry off by 1e-5 max |K|";
-      involved.clear();
-    }
-    for (Index j : involved) {
-      VecX zp = zc, zm = zc;
-      zp(j) += h;
-      zm(j) -= h;
-      const VecX d = -(residual(zp, nullptr) - residual(zm, nullptr)) / (2 * h);
-      Index row = 0;
-      const Real e = (d - K.k.col(j)).cwiseAbs().maxCoeff(&row);
-      if (e > err && std::getenv("SIGNORINI_TEST_VERBOSE"))
-        std::printf("  column %lld row %lld: FD %.6e tangent %.6e (one-sided %.6e %.6e)\n", (long long)j, (long long)row,
-                    d(row), K.k(row, j), -(residual(zp, nullptr) - residual(zc, nullptr))(row) / h,
-                    -(residual(zc, nullptr) - residual(zm, nullptr))(row) / h);
-      err = std::max(err, e);
+    } else {
+      for (Index j : involved) {
+        VecX zp = zc, zm = zc;
+        zp(j) += h;
+        zm(j) -= h;
+        const VecX d = -(residual(zp, nullptr) - residual(zm, nullptr)) / (2 * h);
+        Index row = 0;
+        const Real e = (d - K.k.col(j)).cwiseAbs().maxCoeff(&row);
+        if (e > err && std::getenv("SIGNORINI_TEST_VERBOSE"))
+          std::printf("  column %lld row %lld: FD %.6e tangent %.6e (one-sided %.6e %.6e)\n", (long long)j,
+                      (long long)row, d(row), K.k(row, j), -(residual(zp, nullptr) - residual(zc, nullptr))(row) / h,
+                      -(residual(zc, nullptr) - residual(zm, nullptr))(row) / h);
+        err = std::max(err, e);
+      }
     }
     std::printf("%s%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
                 c.text().c_str(), c.method == "nitsche" ? (" theta " + std::to_string(theta)).c_str() : "", (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
@@ -358,8 +353,9 @@ TEST(TangentGrid, Every3DCombinationMatchesCentralDifferences) {
       ++rows;
     }
   std::printf("%d 3D rows checked\n", rows);
-  if (!std::getenv("SIGNORINI_GRID_FILTER"))
+  if (!std::getenv("SIGNORINI_GRID_FILTER")) {
     EXPECT_EQ(rows, 561) << "the 3D table (but mortar and Nitsche) changed: update the count";
+  }
 }
 
 // 3D mortar's combinations on their own (its weighted gaps' derivatives are hyper-dual numbers
@@ -408,8 +404,9 @@ TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
       ++rows;
     }
   std::printf("%d 3D Nitsche rows checked\n", rows);
-  if (!std::getenv("SIGNORINI_GRID_FILTER"))
+  if (!std::getenv("SIGNORINI_GRID_FILTER")) {
     EXPECT_EQ(rows, 75) << "25 frictionless, 25 Coulomb and 25 Tresca rows";
+  }
 }
 
 // Nitsche reads the slave body's stress: a slave facet that no deformable cell owns (here the
