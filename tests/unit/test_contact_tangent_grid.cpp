@@ -257,7 +257,9 @@ void check_combination(const ContactCombination& c, int theta = 1) {
       }
     const bool mixed = c.friction == "none" || (stick > 0 && slip > 0);
     if (!mixed && attempt + 1 < attempts) continue;
-    if (c.method == "nitsche") EXPECT_TRUE(mixed) << "no integration point sticks, or none slips";
+    if (c.method == "nitsche") {
+      EXPECT_TRUE(mixed) << "no integration point sticks, or none slips";
+    }
     // The unknowns the contact residual depends on (the others' columns are zero).
     std::set<Index> involved;
     for (auto& p : pairs) {
