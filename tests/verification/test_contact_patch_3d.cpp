@@ -180,8 +180,11 @@ TEST_P(ContactPatch3d, SegmentToSegmentCarriesTheUniformState) { check_uniform_s
 // (pressure spread, max |sigma_zz + p|, relative to p): tet10 on hex8 0.38 % and 0.23 %,
 // hex20 on tet4 0.39 % and 0.50 %, tet4 on hex20 0.25 % and 0.11 %; asserted within 1 %. The
 // exact non-matching patch test needs segment-based integration (3D mortar, issue 14). A quad9
-// punch on a tet10 foundation is left out: its residual stagnates above 1e-4 of the force
-// scale (7.5e-5 to 1e-4 at the first increments) and the increment is cut back until it gives up.
+// punch (hex27) on a tet10 foundation stagnated above 1e-4 of the force scale and was cut back
+// until it gave up, until the points were held on their master facet (integration_point_gaps):
+// now 2 Newton iterations, but the least accurate of the table: pressures 9.41 to 10.21 (the
+// quad9 slave's dual basis on its own shape functions, whose corner integrals are small, and
+// tri6 master edges crossing its facets), max |sigma_zz + p| 1.2 % of p; asserted within 7 %.
 // Nitsche, hex8 punches on tet4 and tet10 foundations: the nodes match, but the master
 // triangles' diagonals cross the quad4 slave facets (through three of their nine Gauss points),
 // so the integration is not exact either. Measured: pressure spread 0.42 % and 0.32 %, max
@@ -198,6 +201,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-2},
                       Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-2},
                       Patch3dCase{ElementType::tet4, ElementType::hex20, 3, "lagrange", 1e-2},
+                      Patch3dCase{ElementType::hex27, ElementType::tet10, 3, "lagrange", 7e-2},
                       Patch3dCase{ElementType::hex8, ElementType::tet4, 2, "nitsche", 2e-2},
                       Patch3dCase{ElementType::hex8, ElementType::tet10, 2, "nitsche", 2e-2}),
     case_name);
