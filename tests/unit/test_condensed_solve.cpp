@@ -20,10 +20,12 @@ struct Saddle {
 // n displacement unknowns: a chain of springs (symmetric positive definite with the ground
 // springs), then the multipliers. Each closed row is (coefficients, unknowns); `open` rows
 // get a diagonal only (an open constraint fixes its multiplier).
-Saddle make_system(Index n, const std::vector<std::vector<std::pair<Index, Real>>>& closed, int open) {
+// `softening` lowers the diagonal (the chain alone: eigenvalues 2 - 2 cos(k pi / (n + 1)) + ...).
+Saddle make_system(Index n, const std::vector<std::vector<std::pair<Index, Real>>>& closed, int open,
+                   Real softening = 0) {
   std::vector<Eigen::Triplet<Real, int>> t;
   for (Index i = 0; i < n; ++i) {
-    t.emplace_back(i, i, 2.0 + 0.01 * static_cast<Real>(i % 7));
+    t.emplace_back(i, i, 2.0 + 0.01 * static_cast<Real>(i % 7) - softening);
     if (i + 1 < n) {
       t.emplace_back(i, i + 1, -1.0);
       t.emplace_back(i + 1, i, -1.0);
@@ -92,6 +94,27 @@ TEST(CondensedSolve, CoupledRowsGiveTheWholeSystemsStep) {
   ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz2));
   EXPECT_EQ(solver.analyses(), 1);
   EXPECT_LT((dz2 - dz).norm(), 1e-12 * dz.norm());
+}
+
+TEST(CondensedSolve, IndefiniteReducedSystemFallsBackToAnIndefiniteFactorization) {
+  // The displacement block slightly indefinite (contact's geometric terms can make it so):
+  // Cholesky of the reduced system fails, and the fallback (MUMPS's LDL^T with PETSc, else
+  // UMFPACK's LU) must still give the whole system's step.
+  std::vector<std::vector<std::pair<Index, Real>>> rows;
+  for (Index j = 0; j < 3; ++j) rows.push_back({{40 + 2 * j, 1.0}, {3 * j, -0.6}, {3 * j + 1, -0.4}});
+  const Saddle s = make_system(60, rows, 1, 0.05);
+  ASSERT_LT(Eigen::SelfAdjointEigenSolver<MatX>(MatX(s.J).topLeftCorner(60, 60)).eigenvalues()(0), 0.0);
+  CondensedContactSolver solver(false);
+  VecX dz;
+  ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
+  EXPECT_EQ(solver.last_used(), petsc_available() ? "mumps" : "umfpack");
+  EXPECT_LT(error_against_dense(s, dz), 1e-10);
+  // A definite system stays with Cholesky.
+  const Saddle d = make_system(60, rows, 1);
+  CondensedContactSolver plain(false);
+  ASSERT_TRUE(plain.solve(d.J, d.is_multiplier, true, d.r, dz));
+  EXPECT_EQ(plain.last_used(), "cholmod");
+  EXPECT_LT(error_against_dense(d, dz), 1e-11);
 }
 
 TEST(CondensedSolve, RefusesRowsWithNoUnknownToEliminate) {

@@ -31,12 +31,14 @@ double elapsed() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - g_start).count();
 }
 
-double peak_memory_mib() {
+namespace {
+double status_mib(const char* key) {
   std::ifstream in("/proc/self/status");
   std::string line;
+  const std::string k = key;
   while (std::getline(in, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) {
-      std::istringstream s(line.substr(6));
+    if (line.rfind(k, 0) == 0) {
+      std::istringstream s(line.substr(k.size()));
       double kb = 0;
       s >> kb;
       return kb / 1024.0;
@@ -44,5 +46,9 @@ double peak_memory_mib() {
   }
   return 0.0;
 }
+}  // namespace
+
+double peak_memory_mib() { return status_mib("VmHWM:"); }
+double memory_mib() { return status_mib("VmRSS:"); }
 
 }  // namespace signorini::log

@@ -31,6 +31,8 @@ void warning(fmt::format_string<Args...> f, Args&&... args) {
 double elapsed();
 // Peak resident memory of this process in MiB (from /proc/self/status), 0 if unknown.
 double peak_memory_mib();
+// The resident memory now (VmRSS), in MiB.
+double memory_mib();
 
 class Timer {
  public:

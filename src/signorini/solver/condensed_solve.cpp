@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
 
 namespace signorini {
 
@@ -29,9 +30,19 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // reused), gives J's step. If GMRES does not get there, the whole system is solved instead
   // (plain refinement, dz += P^-1 (r - J dz), diverged on tri6).
   const Index n = J.rows();
-  const SparseMatrix Jt = J.transpose();  // column m of Jt is row m of J
   why_not_.clear();
   refinements_ = 0;
+  // The multiplier rows of J, gathered from its columns in column order (J is column-major;
+  // a transpose of the whole matrix would take as much memory again as J).
+  std::vector<Index> slot(n, -1);
+  Index nm = 0;
+  for (Index m = 0; m < n; ++m)
+    if (is_multiplier[m]) slot[m] = nm++;
+  std::vector<std::vector<std::pair<Index, Real>>> mrow(static_cast<size_t>(nm));
+  for (Index col = 0; col < J.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(J, col); it; ++it)
+      if (slot[it.row()] >= 0) mrow[slot[it.row()]].emplace_back(col, it.value());
+  auto row_of = [&](Index m) -> const std::vector<std::pair<Index, Real>>& { return mrow[slot[m]]; };
   std::vector<Index> closed, open;
   std::vector<int> count(n, 0);      // closed rows whose support holds the unknown
   std::vector<Real> column(n, 0.0);  // sum over closed rows of |a_mk|
@@ -39,10 +50,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     if (!is_multiplier[m]) continue;
     bool has_u = false;
     Real diag = 0;
-    for (SparseMatrix::InnerIterator it(Jt, m); it; ++it) {
-      if (it.value() == 0) continue;
-      if (it.row() == m) diag = it.value();
-      else if (is_multiplier[it.row()]) {
+    for (const auto& [k, v] : row_of(m)) {
+      if (v == 0) continue;
+      if (k == m) diag = v;
+      else if (is_multiplier[k]) {
         why_not_ = "a multiplier row couples two multipliers";
         return false;
       } else has_u = true;
@@ -57,14 +68,19 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       continue;
     }
     closed.push_back(m);
-    for (SparseMatrix::InnerIterator it(Jt, m); it; ++it)
-      if (it.value() != 0 && it.row() != m) {
-        ++count[it.row()];
-        column[it.row()] += std::abs(it.value());
+    for (const auto& [k, v] : row_of(m))
+      if (v != 0 && k != m) {
+        ++count[k];
+        column[k] += std::abs(v);
       }
   }
   std::vector<char> is_closed(n, 0);
   for (Index m : closed) is_closed[m] = 1;
+  // For each unknown, how many closed multipliers act on its row (column m of J holds b_m).
+  std::vector<int> acting(n, 0);
+  for (Index m : closed)
+    for (SparseMatrix::InnerIterator it(J, m); it; ++it)
+      if (it.value() != 0) ++acting[it.row()];
   // Exact pivots: in each closed row, the largest coefficient on an unknown no other closed
   // row touches, whose own row carries no other closed multiplier.
   std::vector<Index> pivot_of(n, -1);  // unknown -> its closed row
@@ -75,11 +91,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     for (size_t c = 0; c < closed.size(); ++c) {
       const Index m = closed[c];
       Real amax = 0, best = 0;
-      for (SparseMatrix::InnerIterator it(Jt, m); it; ++it)
-        if (it.row() != m) amax = std::max(amax, std::abs(it.value()));
-      for (SparseMatrix::InnerIterator it(Jt, m); it; ++it) {
-        const Index k = it.row();
-        const Real a = std::abs(it.value());
+      for (const auto& [k, v] : row_of(m))
+        if (k != m) amax = std::max(amax, std::abs(v));
+      for (const auto& [k, v] : row_of(m)) {
+        const Real a = std::abs(v);
         if (k == m || a < 0.1 * amax || pivot_of[k] >= 0) continue;
         if (J.coeff(k, m) == 0) continue;  // the multiplier must act on its pivot's row
         const Real score = coupled ? a / column[k] : (count[k] == 1 ? a : 0.0);
@@ -91,10 +106,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       pivot_of[pivot[c]] = static_cast<Index>(c);
     }
     if (coupled) return true;
-    // The pivot's row must hold no other closed multiplier (else dl_m is not recovered alone).
+    // The pivot's row must hold no other closed multiplier (else dl_m is not recovered alone);
+    // its own acts on it (J(p, m) != 0 above).
     for (size_t c = 0; c < closed.size(); ++c)
-      for (SparseMatrix::InnerIterator it(Jt, pivot[c]); it; ++it)  // column p of Jt = row p of J
-        if (it.value() != 0 && is_closed[it.row()] && it.row() != closed[c]) return false;
+      if (acting[pivot[c]] != 1) return false;
     return true;
   };
   bool coupled = false;
@@ -112,24 +127,29 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       return false;
     }
   }
-  // P: J without the couplings at the pivots (coupled rows only; else P = J).
-  SparseMatrix P;
+  // P = J - E: J without the couplings at the pivots (coupled rows only; else P = J). E holds
+  // the left-out entries, which sit in closed rows and columns only, so P is never formed.
+  auto dropped = [&](Index row, Index col) {
+    return (is_closed[row] && pivot_of[col] >= 0 && closed[pivot_of[col]] != row) ||
+           (is_closed[col] && pivot_of[row] >= 0 && closed[pivot_of[row]] != col);
+  };
+  SparseMatrix E(n, n);
   if (coupled) {
-    std::vector<Eigen::Triplet<Real, int>> kept;
-    kept.reserve(static_cast<size_t>(J.nonZeros()));
-    for (Index col = 0; col < J.outerSize(); ++col)
-      for (SparseMatrix::InnerIterator it(J, col); it; ++it) {
-        const Index row = it.row();
-        if (is_closed[row] && pivot_of[col] >= 0 && closed[pivot_of[col]] != row) continue;
-        if (is_closed[col] && pivot_of[row] >= 0 && closed[pivot_of[row]] != col) continue;
-        kept.emplace_back(static_cast<int>(row), static_cast<int>(col), it.value());
-      }
-    P.resize(n, n);
-    P.setFromTriplets(kept.begin(), kept.end());
+    std::vector<Eigen::Triplet<Real, int>> left;
+    for (Index m : closed)
+      for (const auto& [k, v] : row_of(m))
+        if (dropped(m, k)) left.emplace_back(static_cast<int>(m), static_cast<int>(k), v);
+    for (Index m : closed)
+      for (SparseMatrix::InnerIterator it(J, m); it; ++it)
+        if (!is_closed[it.row()] && dropped(it.row(), m))
+          left.emplace_back(static_cast<int>(it.row()), static_cast<int>(m), it.value());
+    E.setFromTriplets(left.begin(), left.end());
   }
-  const SparseMatrix& A = coupled ? P : J;
-  const SparseMatrix At = coupled ? SparseMatrix(P.transpose()) : SparseMatrix();
-  const SparseMatrix& Arows = coupled ? At : Jt;
+  auto times_P = [&](const VecX& v) -> VecX {
+    VecX out = J * v;
+    if (coupled) out -= E * v;
+    return out;
+  };
   // Reduced numbering and T. Algebraic multigrid keeps the pivots' places (their columns of
   // T empty, a decoupled diagonal added below), so that the unknowns stay in node blocks.
   const bool keep_places = solver_.wants_layout();
@@ -144,18 +164,25 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   std::vector<Real> ap(closed.size()), bp(closed.size());
   for (size_t c = 0; c < closed.size(); ++c) {
     const Index m = closed[c], p = pivot[c];
-    ap[c] = Arows.coeff(p, m);
-    bp[c] = A.coeff(p, m);
-    for (SparseMatrix::InnerIterator it(Arows, m); it; ++it) {
-      const Index k = it.row();
-      if (k == m || k == p || it.value() == 0) continue;
-      trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -it.value() / ap[c]);
+    bp[c] = J.coeff(p, m);  // never left out: m is p's own row
+    for (const auto& [k, v] : row_of(m))
+      if (k == p) ap[c] = v;
+    for (const auto& [k, v] : row_of(m)) {
+      if (k == m || k == p || v == 0 || (coupled && dropped(m, k))) continue;
+      trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -v / ap[c]);
     }
   }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
-  const SparseMatrix AT = A * T;
-  SparseMatrix Kr = SparseMatrix(T.transpose()) * AT;
+  decltype(trip)().swap(trip);
+  SparseMatrix Kr;
+  {
+    // T^T P T, with P T = J T - E T (the product J T is as large as J: freed before the
+    // factorization, which is where the memory peaks).
+    SparseMatrix AT = J * T;
+    if (coupled) AT -= E * T;
+    Kr = SparseMatrix(T.transpose()) * AT;
+  }
   if (keep_places && !closed.empty()) {
     // The pivots' rows and columns of Kr are empty: a diagonal of the mean magnitude there.
     Real mean = 0;
@@ -198,9 +225,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   bool factorized = false;
   auto apply = [&](const VecX& rhs, VecX& out) {
     VecX z0 = VecX::Zero(n);
-    for (Index m : open) z0(m) = rhs(m) / A.coeff(m, m);
+    for (Index m : open) z0(m) = rhs(m) / J.coeff(m, m);
     for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
-    const VecX rr = T.transpose() * (rhs - A * z0);
+    const VecX rr = T.transpose() * (rhs - times_P(z0));
     VecX ur;
     if (!factorized) {
       solver_.solve(Kr, symmetric, rr, ur);
@@ -210,10 +237,12 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     }
     out = T * ur + z0;
     // Closed multipliers from their pivots' rows (out holds 0 for them so far).
-    const VecX Aout = A * out;
+    const VecX Aout = times_P(out);
     for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Aout(pivot[c])) / bp[c];
   };
   apply(r, dz);
+  log::debug("    condensed solve: {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB", Kr.rows(), Kr.nonZeros(),
+             solver_.last_used(), log::memory_mib());
   if (!coupled) return true;
   // GMRES on J x = r, right-preconditioned by P^-1 (Saad 2003, alg. 9.5), from x0 = P^-1 r.
   const Real rnorm = r.norm();
@@ -268,8 +297,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   coupled_skip_ = coupled_backoff_;
   coupled_backoff_ = std::min(2 * coupled_backoff_, 64);
   why_not_ = fmt::format(
-      "coupled contact rows (segment_to_segment): GMRES on the condensed preconditioner stalls at {:.1e} of the "
-      "right-hand side after {} steps",
+      "coupled contact rows (segment_to_segment, mortar): GMRES on the condensed preconditioner stalls at {:.1e} of "
+      "the right-hand side after {} steps",
       final_norm / rnorm, k);
   return false;
 }

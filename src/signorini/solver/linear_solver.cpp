@@ -8,8 +8,12 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <type_traits>
+
+#include <fmt/format.h>
 
 #include "signorini/core/error.hpp"
+#include "signorini/core/log.hpp"
 #ifdef SIGNORINI_HAVE_PETSC
 #include "signorini/solver/petsc_solver.hpp"
 #endif
@@ -33,6 +37,48 @@ class EigenDirect final : public LinearSolver {
   }
   std::string name() const override { return name_; }
   bool factorize(const SparseMatrix& a) override {
+    if constexpr (std::is_same_v<typename EigenSolver::MatrixType, SparseMatrix>) {
+      factorize_matrix(a);
+    } else {
+      // UMFPACK on 32-bit indices runs out of its integers on the LU of a 3D system of about
+      // 100k unknowns (the CalculiX fine tet10 Hertz mesh): its 64-bit version on a copy.
+      wide_ = typename EigenSolver::MatrixType(a);
+      factorize_matrix(wide_);
+    }
+    failure_.clear();
+    if (solver_.info() == Eigen::Success) return true;
+    failure_ = factorization_failure();
+    return false;
+  }
+  bool solve(const VecX& b, VecX& x) override {
+    x = solver_.solve(b);
+    return solver_.info() == Eigen::Success && x.allFinite();
+  }
+  std::string failure() const override { return failure_.empty() ? "failed" : failure_; }
+
+ private:
+  // What the library says of a failed factorization: out of memory or an index overflow is
+  // not a singular matrix, and the user should not be sent looking for missing supports.
+  std::string factorization_failure() {
+    if constexpr (requires(EigenSolver& s) { s.cholmod(); }) {
+      switch (solver_.cholmod().status) {
+        case CHOLMOD_NOT_POSDEF: return "the matrix is not positive definite";
+        case CHOLMOD_OUT_OF_MEMORY: return "CHOLMOD ran out of memory";
+        case CHOLMOD_TOO_LARGE: return "the factor is too large for CHOLMOD's integers";
+        default: return fmt::format("CHOLMOD status {}", solver_.cholmod().status);
+      }
+    } else if constexpr (requires(EigenSolver& s) { s.umfpackFactorizeReturncode(); }) {
+      switch (solver_.umfpackFactorizeReturncode()) {
+        case UMFPACK_WARNING_singular_matrix: return "the matrix is singular";
+        case UMFPACK_ERROR_out_of_memory: return "UMFPACK ran out of memory (or of its 32-bit integers)";
+        default: return fmt::format("UMFPACK status {}", solver_.umfpackFactorizeReturncode());
+      }
+    } else {
+      return "";
+    }
+  }
+  template <typename M>
+  void factorize_matrix(const M& a) {
     if (!analysed_ || a.rows() != rows_ || a.nonZeros() != nnz_) {
       solver_.analyzePattern(a);
       analysed_ = true;
@@ -40,16 +86,11 @@ class EigenDirect final : public LinearSolver {
       nnz_ = a.nonZeros();
     }
     solver_.factorize(a);
-    return solver_.info() == Eigen::Success;
   }
-  bool solve(const VecX& b, VecX& x) override {
-    x = solver_.solve(b);
-    return solver_.info() == Eigen::Success && x.allFinite();
-  }
-
- private:
+  std::string failure_;
   std::string name_;
   EigenSolver solver_;
+  typename EigenSolver::MatrixType wide_;  // the copy a solver on other indices factorizes
   bool analysed_ = false;
   Index rows_ = 0, nnz_ = 0;
 };
@@ -136,7 +177,9 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
   }
   if (name == "cholmod")
     return std::make_unique<EigenDirect<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>>>(name);
-  if (name == "umfpack") return std::make_unique<EigenDirect<Eigen::UmfPackLU<SparseMatrix>>>(name);
+  if (name == "umfpack")
+    return std::make_unique<EigenDirect<Eigen::UmfPackLU<Eigen::SparseMatrix<Real, Eigen::ColMajor, SuiteSparse_long>>>>(
+        name);
   if (name == "eigen_ldlt")
     return std::make_unique<EigenDirect<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>>>(name);
   if (name == "eigen_lu")
@@ -149,8 +192,13 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   std::string want = choice_.type;
   const bool spd_wanted = symmetric && spd_skip_ == 0;
   if (spd_skip_ > 0) --spd_skip_;
+  // A symmetric matrix that Cholesky cannot take: LDL^T with pivoting (MUMPS through PETSc, in
+  // one process), whose factor is about Cholesky's size, where LU's is several times it (the
+  // reduced contact system of the fine tet10 Hertz mesh, 118k unknowns: peak memory 8.5 GB
+  // with UMFPACK against 3.2 GB with CHOLMOD). Else, and for unsymmetric ones, LU (UMFPACK).
+  const std::string indefinite = symmetric && petsc_available() && launched_ranks() == 1 ? "mumps" : "umfpack";
   if (want == "auto")
-    want = !spd_wanted ? "umfpack" : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
+    want = !spd_wanted ? indefinite : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
   if (!solver_ || solver_->name() != want) {
     LinearSolverSettings s = choice_;
     s.type = want;
@@ -158,11 +206,12 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     solver_->set_layout(layout_);
   }
   solver_->set_symmetric(symmetric);
+  const bool spd = want == "cholmod" || want == "eigen_cg";
   if (solver_->factorize(a) && solver_->solve(b, x)) {
-    if (want != "umfpack") spd_backoff_ = 1;
+    if (spd) spd_backoff_ = 1;
     return;
   }
-  if (choice_.type == "auto" && want != "umfpack") {
+  if (choice_.type == "auto" && spd) {
     // Not positive definite (an instability, or contact's geometric term -p w hess g while the
     // penetration is large): LU instead, for the next 1, 2, 4, ... solves after each failure in
     // a row, rather than paying for a failed factorization at every iteration; Cholesky comes
@@ -170,14 +219,27 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     // penalty: it fails in the first 7 of 19 iterations, then succeeds).
     spd_skip_ = spd_backoff_;
     spd_backoff_ = std::min(2 * spd_backoff_, 64);
+    log::debug("    {} failed ({}): {} for this solve and the next {}", solver_->name(), solver_->failure(), indefinite,
+               spd_skip_);
+    solver_ = make_linear_solver(indefinite);
+    solver_->set_symmetric(symmetric);
+    if (solver_->factorize(a) && solver_->solve(b, x)) return;
+  }
+  if (choice_.type == "auto" && solver_->name() == "mumps") {
+    // MUMPS failed too (singular, or out of its workspace): LU, the last resort.
+    log::debug("    mumps failed ({}): LU (UMFPACK)", solver_->failure());
     solver_ = make_linear_solver("umfpack");
     if (solver_->factorize(a) && solver_->solve(b, x)) return;
   }
   if (is_petsc_solver(want))
     throw SolverError("linear solver " + solver_->name() + " failed: " + solver_->failure() +
                       " (a singular or indefinite system, or a preconditioner unfit for it: try mumps or umfpack)");
+  const std::string why = solver_->failure();
+  if (why.find("memory") != std::string::npos || why.find("too large") != std::string::npos)
+    throw SolverError("linear solver " + solver_->name() + " failed: " + why + " (" + std::to_string(a.rows()) +
+                      " unknowns, " + std::to_string(a.nonZeros()) + " nonzeros)");
   throw SolverError("linear solver " + solver_->name() + " failed: the system is singular (missing supports or a "
-                    "mechanism?) or not positive definite");
+                    "mechanism?) or not positive definite" + (why == "failed" ? "" : " (" + why + ")"));
 }
 
 }  // namespace signorini
