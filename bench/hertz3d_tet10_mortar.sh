@@ -6,7 +6,8 @@
 # sphere and the peak nodal pressure against Hertz's p0 for that load (Johnson 1985, ch. 4).
 # Usage: bench/hertz3d_tet10_mortar.sh [BUILD_DIR] [MESH ...]
 #   MESH: a C3D10 .inp or .msh of the harness (default: the coarse one in tests/data/calculix;
-#   the medium and fine ones come from the harness's scripts/mesh3d.py, which needs python3-gmsh).
+#   the fine one is there too, hertz3d_fine_c3d10.inp; the medium one comes from the harness's
+#   scripts/mesh3d.py, which needs python3-gmsh).
 # DISCRETIZATION=segment_to_segment (or another) runs that instead of mortar.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
