@@ -70,7 +70,7 @@ class EigenDirect final : public LinearSolver {
     } else if constexpr (requires(EigenSolver& s) { s.umfpackFactorizeReturncode(); }) {
       switch (solver_.umfpackFactorizeReturncode()) {
         case UMFPACK_WARNING_singular_matrix: return "the matrix is singular";
-        case UMFPACK_ERROR_out_of_memory: return "UMFPACK ran out of memory (or of its 32-bit integers)";
+        case UMFPACK_ERROR_out_of_memory: return "UMFPACK ran out of memory";
         default: return fmt::format("UMFPACK status {}", solver_.umfpackFactorizeReturncode());
       }
     } else {
@@ -231,7 +231,7 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     solver_ = make_linear_solver("umfpack");
     if (solver_->factorize(a) && solver_->solve(b, x)) return;
   }
-  if (is_petsc_solver(want))
+  if (is_petsc_solver(solver_->name()))
     throw SolverError("linear solver " + solver_->name() + " failed: " + solver_->failure() +
                       " (a singular or indefinite system, or a preconditioner unfit for it: try mumps or umfpack)");
   const std::string why = solver_->failure();
