@@ -39,4 +39,11 @@ class FatalModelError : public SolverError {
   using SolverError::SolverError;
 };
 
+// A factorization that ran out of memory, or of its library's integers: not a singular model,
+// and a smaller increment would not make the system smaller, so the analysis stops at once.
+class SolverResourceError : public FatalModelError {
+ public:
+  using FatalModelError::FatalModelError;
+};
+
 }  // namespace signorini

@@ -765,13 +765,12 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
     if (dirichlet_diagonal_ > 0)
       for (Index i = 0; i < static_cast<Index>(constrained_.size()); ++i)
         if (constrained_[i]) du(i) = R(i) / dirichlet_diagonal_;
+  } catch (const SolverResourceError&) {
+    throw;  // out of memory: not a sign of missing supports
   } catch (const SolverError& e) {
     // Singular at the very first solve, from the undeformed state: cutting back cannot
     // help, the model is missing supports.
-    // (Not when the library ran out of memory or of its integers: the message says so.)
-    const std::string what = e.what();
-    const bool resources = what.find("memory") != std::string::npos || what.find("too large") != std::string::npos;
-    if (it == 1 && summary_.increments.empty() && u_converged_.isZero(0) && !resources)
+    if (it == 1 && summary_.increments.empty() && u_converged_.isZero(0))
       throw FatalModelError(std::string(e.what()) +
                             " at the first solve from the undeformed state: the model probably "
                             "lacks supports (a rigid-body motion is free) in some direction");

@@ -46,10 +46,12 @@ class EigenDirect final : public LinearSolver {
       factorize_matrix(wide_);
     }
     failure_.clear();
+    resources_ = false;
     if (solver_.info() == Eigen::Success) return true;
     failure_ = factorization_failure();
     return false;
   }
+  bool ran_out_of_resources() const override { return resources_; }
   bool solve(const VecX& b, VecX& x) override {
     x = solver_.solve(b);
     return solver_.info() == Eigen::Success && x.allFinite();
@@ -61,6 +63,7 @@ class EigenDirect final : public LinearSolver {
   // not a singular matrix, and the user should not be sent looking for missing supports.
   std::string factorization_failure() {
     if constexpr (requires(EigenSolver& s) { s.cholmod(); }) {
+      resources_ = solver_.cholmod().status == CHOLMOD_OUT_OF_MEMORY || solver_.cholmod().status == CHOLMOD_TOO_LARGE;
       switch (solver_.cholmod().status) {
         case CHOLMOD_NOT_POSDEF: return "the matrix is not positive definite";
         case CHOLMOD_OUT_OF_MEMORY: return "CHOLMOD ran out of memory";
@@ -68,6 +71,7 @@ class EigenDirect final : public LinearSolver {
         default: return fmt::format("CHOLMOD status {}", solver_.cholmod().status);
       }
     } else if constexpr (requires(EigenSolver& s) { s.umfpackFactorizeReturncode(); }) {
+      resources_ = solver_.umfpackFactorizeReturncode() == UMFPACK_ERROR_out_of_memory;
       switch (solver_.umfpackFactorizeReturncode()) {
         case UMFPACK_WARNING_singular_matrix: return "the matrix is singular";
         case UMFPACK_ERROR_out_of_memory: return "UMFPACK ran out of memory";
@@ -88,6 +92,7 @@ class EigenDirect final : public LinearSolver {
     solver_.factorize(a);
   }
   std::string failure_;
+  bool resources_ = false;
   std::string name_;
   EigenSolver solver_;
   typename EigenSolver::MatrixType wide_;  // the copy a solver on other indices factorizes
@@ -235,9 +240,9 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     throw SolverError("linear solver " + solver_->name() + " failed: " + solver_->failure() +
                       " (a singular or indefinite system, or a preconditioner unfit for it: try mumps or umfpack)");
   const std::string why = solver_->failure();
-  if (why.find("memory") != std::string::npos || why.find("too large") != std::string::npos)
-    throw SolverError("linear solver " + solver_->name() + " failed: " + why + " (" + std::to_string(a.rows()) +
-                      " unknowns, " + std::to_string(a.nonZeros()) + " nonzeros)");
+  if (solver_->ran_out_of_resources())
+    throw SolverResourceError("linear solver " + solver_->name() + " failed: " + why + " (" +
+                              std::to_string(a.rows()) + " unknowns, " + std::to_string(a.nonZeros()) + " nonzeros)");
   throw SolverError("linear solver " + solver_->name() + " failed: the system is singular (missing supports or a "
                     "mechanism?) or not positive definite" + (why == "failed" ? "" : " (" + why + ")"));
 }

@@ -53,6 +53,8 @@ class LinearSolver {
   virtual int iterations() const { return 0; }
   // Why the last factorize or solve failed, when the solver knows.
   virtual std::string failure() const { return "failed"; }
+  // Whether the last factorization failed for want of memory or of the library's integers.
+  virtual bool ran_out_of_resources() const { return false; }
   // Whether the solver wants the unknown layout (algebraic multigrid).
   virtual bool wants_layout() const { return false; }
 };
