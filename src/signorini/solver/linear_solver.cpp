@@ -218,7 +218,9 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   }
   if (choice_.type == "auto" && spd) {
     // Not positive definite (an instability, or contact's geometric term -p w hess g while the
-    // penetration is large): LU instead, for the next 1, 2, 4, ... solves after each failure in
+    // penetration is large): the indefinite factorization above instead (MUMPS's LDL^T or
+    // UMFPACK's LU; also when CHOLMOD ran out of its integers, where 64-bit UMFPACK may not), for
+    // the next 1, 2, 4, ... solves after each failure in
     // a row, rather than paying for a failed factorization at every iteration; Cholesky comes
     // back once the tangent is definite again (measured on the 2D Hertz mesh of CalculiX with
     // penalty: it fails in the first 7 of 19 iterations, then succeeds).
