@@ -20,6 +20,7 @@ struct HertzRun {
   AnalysisSummary summary;
   Vec3 obstacle_displacement = Vec3::Zero();  // of the last rigid obstacle, if any
   Real min_closed_pressure = 0;                // the smallest written pressure of a closed slave node
+  std::vector<std::pair<Vec3, Real>> closed;   // each closed slave node: reference position, written pressure
 };
 
 // `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
@@ -43,7 +44,10 @@ inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) 
   out.min_closed_pressure = std::numeric_limits<Real>::infinity();
   for (auto& c : a.contacts())
     for (const auto& ns : c->slave_states())
-      if (ns.status == ContactInterface::closed) out.min_closed_pressure = std::min(out.min_closed_pressure, ns.pressure);
+      if (ns.status == ContactInterface::closed) {
+        out.min_closed_pressure = std::min(out.min_closed_pressure, ns.pressure);
+        out.closed.emplace_back(a.model().mesh.nodes[ns.node], ns.pressure);
+      }
   fs::remove(tmp);
   return out;
 }

@@ -69,3 +69,67 @@ TEST(LongRefinement, HertzSphere3D) {
     EXPECT_LT(r.checks[2].error, 1e-4);
   }
 }
+
+// Where the peak pressure error of the 3D tet4 Hertz example comes from (issue: p0 <= 3 % on
+// the project's tet4 mesh). On the shipped mesh (hc 0.02, a / hc = 5) the closed slave nodes'
+// pressures are compared with Hertz's p0 sqrt(1 - r^2 / a^2) inside r < 0.8 a (the edge nodes
+// left out, as the CalculiX harness's fit does): their mean deviation (the contact radius), rms
+// (node-to-node noise) and largest. Node-to-segment, mortar and segment-to-segment on the tet4
+// mesh, and mortar on the same mesh raised to tet10 (mid-side nodes on the sphere). Measured
+// (session 35; p0 error, mean, rms, max deviation): node-to-segment +16.5, +0.1, 13.2, +24.7 %;
+// mortar +7.7, +2.6, 6.3, +17.1 %; segment-to-segment +8.1, +2.6, 6.3, +17.5 %; tet10 mortar
+// -0.6, -0.3, 1.5, +4.6 %. Two ways of integrating the contact giving the same noise, and the
+// tet10 mesh of the same vertices removing it, put the rest in the tet4 mesh (a faceted sphere,
+// constant-stress tetrahedra), not in the contact discretization.
+namespace {
+struct PressureNoise {
+  Real p0_error, mean, rms, max;
+};
+PressureNoise pressure_noise(const signorini::test::HertzRun& r) {
+  const Real a = 0.1, p0 = 4.77465e5;  // the example's Hertz values (its deck)
+  Real sum = 0, sum2 = 0, mx = -1;
+  int n = 0;
+  for (const auto& [x, p] : r.closed) {
+    const Real rr = std::hypot(x(0), x(1));
+    if (rr >= 0.8 * a) continue;
+    const Real d = p / (p0 * std::sqrt(1 - rr * rr / (a * a))) - 1;
+    sum += d;
+    sum2 += d * d;
+    mx = std::max(mx, d);
+    ++n;
+  }
+  EXPECT_GT(n, 10) << "closed nodes inside 0.8 a";
+  return {r.checks[0].computed / p0 - 1, sum / n, std::sqrt(sum2 / n), mx};
+}
+}  // namespace
+
+TEST(LongRefinement, HertzSphere3DPressureNoise) {
+  struct Case {
+    const char* name;
+    const char* discretization;
+    int order;
+  };
+  std::printf("hertz_sphere_3d, hc 0.02: p0 error %%, nodal deviation from Hertz inside 0.8 a: mean, rms, max %%\n");
+  std::vector<PressureNoise> out;
+  Real a_tet10 = 1;
+  for (const Case& c : {Case{"node_to_segment tet4", "", 0}, Case{"mortar tet4", "discretization: mortar", 0},
+                        Case{"segment_to_segment tet4", "discretization: segment_to_segment", 0},
+                        Case{"mortar tet10", "discretization: mortar", 2}}) {
+    signorini::test::HertzRun r = signorini::test::run_hertz("hertz_sphere_3d", 0.02, c.discretization, c.order);
+    ASSERT_TRUE(r.summary.completed) << c.name << ": " << r.summary.failure;
+    EXPECT_LT(r.checks[2].error, 1e-4) << c.name << ": force balance";
+    out.push_back(pressure_noise(r));
+    if (c.order == 2) a_tet10 = r.checks[1].error;
+    std::printf("  %-24s %+7.2f %+7.2f %6.2f %+7.2f  (%d iterations)\n", c.name, 100 * out.back().p0_error,
+                100 * out.back().mean, 100 * out.back().rms, 100 * out.back().max, r.summary.total_iterations);
+  }
+  // Mortar halves node-to-segment's noise on tet4, and integrating by points instead changes
+  // nothing (the noise is the mesh's).
+  EXPECT_LT(out[1].rms, 0.6 * out[0].rms);
+  EXPECT_NEAR(out[2].rms, out[1].rms, 0.01);
+  EXPECT_LT(std::abs(out[1].mean), 0.03);
+  // On tet10 the same vertices give the issue's quadratic-mesh accuracy.
+  EXPECT_LT(std::abs(out[3].p0_error), 0.01);
+  EXPECT_LT(a_tet10, 0.01) << "contact radius";
+  EXPECT_LT(out[3].rms, 0.03);
+}

@@ -85,6 +85,13 @@ class EigenDirect final : public LinearSolver {
   void factorize_matrix(const M& a) {
     if (!analysed_ || a.rows() != rows_ || a.nonZeros() != nnz_) {
       solver_.analyzePattern(a);
+      if constexpr (requires(EigenSolver& s) { s.cholmod(); }) {
+        static const char* const names[] = {"natural", "given", "AMD", "METIS", "NESDIS", "COLAMD", "postordered"};
+        const auto& c = solver_.cholmod();
+        const int o = c.method[c.selected].ordering;
+        log::debug("    cholmod analysis: {} ordering, nnz(L) {:.3g}, {:.3g} flops", o >= 0 && o <= 6 ? names[o] : "?",
+                   c.lnz, c.fl);
+      }
       analysed_ = true;
       rows_ = a.rows();
       nnz_ = a.nonZeros();
