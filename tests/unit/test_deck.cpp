@@ -628,7 +628,7 @@ TEST(Deck, CentrifugalLoadErrors) {
   EXPECT_MESSAGE(m, "cf_two.yaml:", "exactly one of");
 }
 
-// solver.linear: a bare name, or {type, rtol, options}; every key checked, with the place.
+// solver.linear: a bare name, or {type, rtol, forcing, options, partition}; every key checked, with the place.
 TEST(Deck, LinearSolverSettings) {
   Registry r = default_registry();
   Model m = read_deck(write_deck("linear_name", kGood + "solver: {linear: umfpack}\n"), r);
@@ -647,7 +647,9 @@ TEST(Deck, LinearSolverSettings) {
   EXPECT_MESSAGE(error_of("linear_bad", kGood + "solver: {linear: superlu}\n"), "linear_bad.yaml:15",
                  "solver.linear", "'superlu'", "gamg");
   EXPECT_MESSAGE(error_of("linear_key", kGood + "solver: {linear: {type: mumps, tolerance: 1}}\n"),
-                 "linear_key.yaml:15", "solver.linear.tolerance", "allowed: type, rtol, options");
+                 "linear_key.yaml:15", "solver.linear.tolerance", "allowed: type, rtol, forcing, options");
+  EXPECT_MESSAGE(error_of("linear_forcing", kGood + "solver: {linear: {type: eigen_cg, forcing: eisenstat}}\n"),
+                 "linear_forcing.yaml:15", "solver.linear.forcing", "'eisenstat'", "adaptive");
   EXPECT_MESSAGE(error_of("linear_rtol", kGood + "solver: {linear: {type: umfpack, rtol: 2}}\n"),
                  "linear_rtol.yaml:15", "solver.linear.rtol");
 }

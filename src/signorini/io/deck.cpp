@@ -898,6 +898,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
     l.check_keys(ls);
     m.linear_solver.type = l.text(ls, "type");
     m.linear_solver.rtol = l.number(ls, "rtol");
+    m.linear_solver.forcing = l.text(ls, "forcing");
     m.linear_solver.options = l.text(ls, "options");
     m.linear_solver.partition = l.text(ls, "partition");
   } else if (n.has("linear")) {

@@ -395,9 +395,16 @@ void register_deck_sections(Registry& r) {
                                "motion of the increment's prediction", "auto", ParamKind::any),
           choice("update", "detection at the start of each increment, or at each Newton iteration",
                  {"increment", "iteration"}, "increment")}});
-  r.add({"deck", "linear", "The linear solver of the Newton iterations: {type, rtol, options, partition}, or just its type.",
+  r.add({"deck", "linear", "The linear solver of the Newton iterations: {type, rtol, forcing, options, partition}, or just its type.",
          {choice("type", "the solver (see 'describe auto', 'describe gamg' etc.)", solvers, "auto"),
-          number("rtol", "gamg, hypre, petsc: relative residual of the Krylov iterations", "1e-8", 0, 1, true, true),
+          number("rtol", "gamg, hypre, petsc, eigen_cg: relative residual of the Krylov iterations (with forcing: "
+                         "adaptive, the tightest asked)", "1e-8", 0, 1, true, true),
+          choice("forcing",
+                 "Krylov solvers: adaptive asks each Newton iteration's solve for what that iteration can use "
+                 "(Eisenstat & Walker: 1e-2 at first, then 0.9 (|R_k| / |R_k-1|)^2, down to rtol); fixed asks rtol "
+                 "of every solve; auto: adaptive on nonlinear models (contact, finite strain, material history), "
+                 "fixed on linear ones",
+                 {"auto", "adaptive", "fixed"}, "auto"),
           text("options", "gamg, hypre, mumps, petsc: raw PETSc options, e.g. \"-ksp_monitor -pc_gamg_threshold 0.02\"",
                "\"\""),
           choice("partition",
@@ -405,7 +412,7 @@ void register_deck_sections(Registry& r) {
                  "their centroids) or ptscotch (PT-Scotch's cut of the cells' graph, through PETSc)",
                  {"rcb", "ptscotch"}, "rcb")}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
-         {text("linear", "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, options, partition} (see 'describe "
+         {text("linear", "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, forcing, options, partition} (see 'describe "
                          "linear')", "auto", ParamKind::any),
           number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
           number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),

@@ -193,6 +193,9 @@ class Analysis {
   // The Newton step du from J du = R (condensed contact multipliers when possible); throws
   // FatalModelError for a model without supports.
   void solve_newton_step(int it, const NewtonSettings& ns, const VecX& R, VecX& du, IncrementRecord& rec);
+  // The relative tolerance a Krylov solve of this Newton iteration is asked for (0: the deck's).
+  Real forcing_term(int it, const NewtonSettings& ns, const IncrementRecord& rec) const;
+  Real last_forcing_ = 0;  // the last solve's, for the iteration log
   // Scales a Newton step whose turn of a rigid body or obstacle (its free angles) exceeds
   // 0.1 rad down to that.
   void limit_turn(VecX& du) const;

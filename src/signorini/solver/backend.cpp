@@ -44,6 +44,8 @@ class SerialBackend final : public AlgebraBackend {
     // a saddle-point system): the condensed system when its structure allows
     // (condensed_solve.hpp); another solver chosen in the deck gets the whole system.
     last_iterations_ = 0;
+    linear_.set_tolerance(q.rtol);
+    condensed_.set_tolerance(q.rtol);
     if (q.is_multiplier && !q.condense_contact && is_amg_solver(linear_name_))
       throw FatalModelError("linear solver " + linear_name_ + " with condense_contact: false: algebraic multigrid "
                             "cannot take the contact multipliers' saddle point (condense them, or use enforcement: "

@@ -20,6 +20,7 @@ struct NewtonSolveRequest {
   bool body_symmetric = true;       // symmetric apart from the contact multipliers' rows and columns
   const std::vector<char>* is_multiplier = nullptr;  // per unknown (null: none)
   bool condense_contact = true;     // eliminate the multipliers when the structure allows
+  Real rtol = 0;                    // Krylov solvers' relative tolerance for this solve (0: the deck's)
 };
 
 class AlgebraBackend {

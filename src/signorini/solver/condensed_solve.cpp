@@ -127,6 +127,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       return false;
     }
   }
+  solver_.set_tolerance(coupled ? 0.0 : tolerance_);
   // P = J - E: J without the couplings at the pivots (coupled rows only; else P = J). E holds
   // the left-out entries, which sit in closed rows and columns only, so P is never formed.
   auto dropped = [&](Index row, Index col) {

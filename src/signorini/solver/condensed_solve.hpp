@@ -18,6 +18,9 @@ class CondensedContactSolver {
   // With algebraic multigrid (gamg, hypre) the eliminated DOFs keep their place in the
   // reduced system as decoupled rows (so that its unknowns stay node-interleaved blocks).
   CondensedContactSolver(const LinearSolverSettings& linear, bool three_d) : solver_(linear, three_d) {}
+  // A Krylov inner solver's relative tolerance (0: its configured one). Applied to uncoupled
+  // rows only: with coupled rows the inner solve preconditions GMRES, which wants it exact.
+  void set_tolerance(Real rtol) { tolerance_ = rtol; }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) {
     layout_ = std::move(layout);
     pattern_rows_ = -1;
@@ -50,6 +53,7 @@ class CondensedContactSolver {
   Index pattern_rows_ = -1;
   std::vector<int> pattern_outer_, pattern_inner_;
   int analyses_ = 0;
+  Real tolerance_ = 0;
   int refinements_ = 0;
   int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
 };

@@ -118,7 +118,10 @@ class EigenCg final : public LinearSolver {
     solver_.compute(a);
     return solver_.info() == Eigen::Success;
   }
+  void set_tolerance(Real rtol) override { tolerance_ = rtol; }
+  int iterations() const override { return static_cast<int>(iterations_); }
   bool solve(const VecX& b, VecX& x) override {
+    solver_.setTolerance(tolerance_ > 0 ? tolerance_ : 1e-10);
     x = solver_.solve(b);
     iterations_ = solver_.iterations();
     return solver_.info() == Eigen::Success && x.allFinite();
@@ -126,6 +129,7 @@ class EigenCg final : public LinearSolver {
   Index iterations_ = 0;
 
  private:
+  Real tolerance_ = 0;
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<Real, Eigen::Lower, Eigen::AMDOrdering<int>>> solver_;
 };
 
@@ -218,6 +222,7 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     solver_->set_layout(layout_);
   }
   solver_->set_symmetric(symmetric);
+  solver_->set_tolerance(tolerance_);
   const bool spd = want == "cholmod" || want == "eigen_cg";
   if (solver_->factorize(a) && solver_->solve(b, x)) {
     if (spd) spd_backoff_ = 1;

@@ -19,6 +19,10 @@ namespace signorini {
 struct LinearSolverSettings {
   std::string type = "auto";
   Real rtol = 1e-8;
+  // Krylov solvers inside Newton's method: "adaptive" asks each solve for no more than the
+  // Newton iteration can use (Eisenstat & Walker 1996, Analysis::forcing_term), rtol being the
+  // tightest; "fixed" asks rtol of every solve; "auto" is adaptive on nonlinear models.
+  std::string forcing = "auto";
   std::string options;
   // Under mpirun: how the cells are shared out between the ranks (rcb, ptscotch).
   std::string partition = "rcb";
@@ -48,6 +52,8 @@ class LinearSolver {
   // Iterative solvers: whether the system is symmetric (CG) or not (GMRES), set before
   // factorize; and the layout of the unknowns of the next systems (null: unknown).
   virtual void set_symmetric(bool) {}
+  // The relative residual the next solves stop at (Krylov solvers; 0: their configured one).
+  virtual void set_tolerance(Real) {}
   virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
   // Krylov iterations of the last solve (0 for a direct solver).
   virtual int iterations() const { return 0; }
@@ -95,6 +101,8 @@ class AutoLinearSolver {
     layout_ = std::move(layout);
     if (solver_) solver_->set_layout(layout_);
   }
+  // The relative residual the next Krylov solves stop at (0: the configured rtol).
+  void set_tolerance(Real rtol) { tolerance_ = rtol; }
   bool wants_layout() const { return is_petsc_solver(choice_.type); }
   const std::string& choice() const { return choice_.type; }
   // Forget the factorization and its symbolic analysis (after a change of sparse pattern).
@@ -110,6 +118,7 @@ class AutoLinearSolver {
   // After Cholesky or CG fails (the tangent is not positive definite), LU for the next spd_skip_
   // solves; the skip doubles with each failure in a row (spd_backoff_) and resets on success.
   int spd_skip_ = 0, spd_backoff_ = 1;
+  Real tolerance_ = 0;
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };

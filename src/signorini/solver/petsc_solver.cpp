@@ -79,6 +79,12 @@ void configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
   check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
 }
 
+// A Newton iteration's forcing term (rtol > 0) as the Krylov solver's relative tolerance; 0
+// leaves the configured one (the deck's rtol and raw options). A direct solve has none.
+void apply_tolerance(KSP ksp, const LinearSolverSettings& s, Real rtol) {
+  if (rtol > 0 && s.type != "mumps") KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000);
+}
+
 // The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
 // Gram-Schmidt): translations, and rotations about the centroid (one in 2D, three in 3D);
 // axisymmetric: the axial translation only (a radial motion strains the hoops). Set as A's
@@ -161,6 +167,7 @@ class PetscKsp final : public LinearSolver {
   bool wants_layout() const override { return is_amg_solver(s_.type); }
   int iterations() const override { return iterations_; }
   std::string failure() const override { return failure_; }
+  void set_tolerance(Real rtol) override { tolerance_ = rtol; }
 
   bool factorize(const SparseMatrix& a) override {
     try {
@@ -190,6 +197,7 @@ class PetscKsp final : public LinearSolver {
       check(VecGetArray(b_, &pb), "VecGetArray");
       for (Index i = rstart_; i < rend_; ++i) pb[i - rstart_] = i < n ? b(i) : 0.0;
       VecRestoreArray(b_, &pb);
+      apply_tolerance(ksp_, s_, tolerance_);
       check(KSPSolve(ksp_, b_, x_), "KSPSolve");
       KSPConvergedReason reason;
       KSPGetConvergedReason(ksp_, &reason);
@@ -387,6 +395,7 @@ class PetscKsp final : public LinearSolver {
   KSP ksp_ = nullptr;
   Index padded_ = 0;
   int bs_ = 1, iterations_ = 0;
+  Real tolerance_ = 0;  // set_tolerance
   std::vector<int> outer_, inner_;
   std::string failure_ = "failed";
 };
@@ -572,6 +581,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
 
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
     iterations_ = 0;
+    tolerance_ = q.rtol;
     if (q.is_multiplier && is_amg_solver(s_.type)) {
       if (!q.condense_contact)
         throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
@@ -795,6 +805,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       configure_ksp(ksp_, s_, symmetric_);
       configured_ = true;
     }
+    apply_tolerance(ksp_, s_, tolerance_);
     const PetscErrorCode code = KSPSolve(ksp_, b, x);
     if (code != 0) {
       const char* text = nullptr;
@@ -1047,6 +1058,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   LinearSolverSettings s_;
   std::shared_ptr<const UnknownLayout> layout_;
   int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
+  Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
   std::vector<Index> starts_;               // first PETSc row of each rank (and the size)
   std::vector<Index> row_, unknown_;         // the analysis' unknown -> PETSc row, and back
