@@ -53,8 +53,9 @@ void start(const LinearSolverSettings& s, int& size, int& rank) {
 }
 
 // The Krylov method and preconditioner of `s` (symmetric: CG or Cholesky; else GMRES or LU),
-// then the user's raw options.
-void configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
+// then the user's raw options. Returns the relative tolerance so configured (rtol, or a raw
+// -ksp_rtol).
+Real configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
   PC pc = nullptr;
   KSPGetPC(ksp, &pc);
   if (s.type == "mumps") {
@@ -77,12 +78,16 @@ void configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
   }
   check(KSPSetTolerances(ksp, s.rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
   check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  PetscReal rtol = s.rtol;
+  KSPGetTolerances(ksp, &rtol, nullptr, nullptr, nullptr);
+  return rtol;
 }
 
 // A Newton iteration's forcing term (rtol > 0) as the Krylov solver's relative tolerance; 0
-// leaves the configured one (the deck's rtol and raw options). A direct solve has none.
-void apply_tolerance(KSP ksp, const LinearSolverSettings& s, Real rtol) {
-  if (rtol > 0 && s.type != "mumps") KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000);
+// puts back the configured one (`configured`: the deck's rtol or a raw -ksp_rtol), which a
+// previous solve may have changed. A direct solve has none.
+void apply_tolerance(KSP ksp, const LinearSolverSettings& s, Real rtol, Real configured) {
+  if (s.type != "mumps") KSPSetTolerances(ksp, rtol > 0 ? rtol : configured, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT);
 }
 
 // The rigid-body modes of the layout's displacement unknowns, orthonormalized (modified
@@ -197,7 +202,7 @@ class PetscKsp final : public LinearSolver {
       check(VecGetArray(b_, &pb), "VecGetArray");
       for (Index i = rstart_; i < rend_; ++i) pb[i - rstart_] = i < n ? b(i) : 0.0;
       VecRestoreArray(b_, &pb);
-      apply_tolerance(ksp_, s_, tolerance_);
+      apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
       check(KSPSolve(ksp_, b_, x_), "KSPSolve");
       KSPConvergedReason reason;
       KSPGetConvergedReason(ksp_, &reason);
@@ -380,7 +385,7 @@ class PetscKsp final : public LinearSolver {
     if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
     check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
     if (configured_) return;
-    configure_ksp(ksp_, s_, symmetric_);
+    configured_rtol_ = configure_ksp(ksp_, s_, symmetric_);
     configured_ = true;
   }
 
@@ -395,7 +400,7 @@ class PetscKsp final : public LinearSolver {
   KSP ksp_ = nullptr;
   Index padded_ = 0;
   int bs_ = 1, iterations_ = 0;
-  Real tolerance_ = 0;  // set_tolerance
+  Real tolerance_ = 0, configured_rtol_ = 0;  // set_tolerance; configure_ksp's
   std::vector<int> outer_, inner_;
   std::string failure_ = "failed";
 };
@@ -802,10 +807,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (!ksp_) check(KSPCreate(PETSC_COMM_WORLD, &ksp_), "KSPCreate");
     check(KSPSetOperators(ksp_, M, M), "KSPSetOperators");
     if (!configured_) {
-      configure_ksp(ksp_, s_, symmetric_);
+      configured_rtol_ = configure_ksp(ksp_, s_, symmetric_);
       configured_ = true;
     }
-    apply_tolerance(ksp_, s_, tolerance_);
+    apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
     const PetscErrorCode code = KSPSolve(ksp_, b, x);
     if (code != 0) {
       const char* text = nullptr;
@@ -1059,6 +1064,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::shared_ptr<const UnknownLayout> layout_;
   int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
+  Real configured_rtol_ = 0;  // configure_ksp's
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
   std::vector<Index> starts_;               // first PETSc row of each rank (and the size)
   std::vector<Index> row_, unknown_;         // the analysis' unknown -> PETSc row, and back
