@@ -123,10 +123,15 @@ int total_krylov(const AnalysisSummary& s) {
 // The example with `solver` and forcing fixed, then adaptive (Analysis::forcing_term): the same
 // answer (every check to 1e-6), at most one more Newton iteration, and fewer Krylov iterations
 // in all, the first solve's above all (asked 1e-2 instead of rtol). Returns adaptive / fixed.
+// `options`: raw PETSc options for both runs.
 Real expect_adaptive_forcing_pays(const std::string& example, const std::string& solver,
-                                  const std::vector<std::pair<std::string, std::string>>& replace = {}) {
+                                  const std::vector<std::pair<std::string, std::string>>& replace = {},
+                                  const std::string& options = "") {
   auto deck = [&](const char* forcing) {
-    return example_deck(example, "solver: {linear: {type: " + solver + ", forcing: " + forcing + "}}\n", replace);
+    return example_deck(example,
+                        "solver: {linear: {type: " + solver + ", forcing: " + forcing +
+                            (options.empty() ? std::string() : ", options: \"" + options + "\"") + "}}\n",
+                        replace);
   };
   const test::HertzRun fixed = test::run_deck_text(deck("fixed"), example + "_fixed");
   const test::HertzRun adaptive = test::run_deck_text(deck("adaptive"), example + "_adaptive");
@@ -148,11 +153,66 @@ Real expect_adaptive_forcing_pays(const std::string& example, const std::string&
 // gamg, and penalty with Eigen's CG (no PETSc needed). Measured (session 35): gamg 6 -> 6
 // Newton iterations, Krylov 179 -> 87; eigen_cg 9 -> 10, 539 -> 243 (its fixed tolerance is
 // 1e-10); the 148k-DOF mesh with gamg on 2 ranks: 8 -> 8, 372 -> 127, linear solve 31.5 ->
-// 23.6 s. Asserted: at most 0.7 of fixed's Krylov iterations.
+// 23.6 s. Asserted: at most 0.7 of fixed's Krylov iterations. GAMG's smoothing is held at
+// one step in both runs (adaptive forcing alone would pick plain aggregation: solver_settings).
 TEST(InexactNewton, AdaptiveForcingCutsKrylovIterationsNotTheAnswer) {
   const std::vector<std::pair<std::string, std::string>> penalty{
       {"    slave: SphereSurface\n", "    slave: SphereSurface\n    enforcement: {method: penalty}\n"}};
   EXPECT_LT(expect_adaptive_forcing_pays("hertz_sphere_3d", "eigen_cg", penalty), 0.7);
   if (!petsc_available()) GTEST_SKIP() << "built without PETSc: gamg not checked";
-  EXPECT_LT(expect_adaptive_forcing_pays("hertz_sphere_3d", "gamg"), 0.7);
+  EXPECT_LT(expect_adaptive_forcing_pays("hertz_sphere_3d", "gamg", {}, "-pc_gamg_agg_nsmooths 1"), 0.7);
+}
+
+// GAMG's prolongator smoothing as solver_settings decides it: plain aggregation (0 steps) when
+// the Krylov solves get forcing terms (a model with contact, finite strain or material history,
+// forcing auto or adaptive), smoothed aggregation (1) when they solve to rtol (forcing fixed, or
+// auto on a linear model).
+TEST(InexactNewton, GamgSmoothingFollowsTheForcing) {
+  auto smoothing = [](const std::string& example, const std::string& forcing) {
+    const auto path = std::filesystem::temp_directory_path() / ("signorini_smoothing_" + example + ".yaml");
+    std::ofstream(path) << example_deck(example, "solver: {linear: {type: gamg, forcing: " + forcing + "}}\n");
+    Registry r = default_registry();
+    const Model m = read_deck(path.string(), r);
+    std::filesystem::remove(path);
+    return solver_settings(m).amg_smoothing;
+  };
+  EXPECT_EQ(smoothing("hertz_sphere_3d", "auto"), 0);
+  EXPECT_EQ(smoothing("hertz_sphere_3d", "adaptive"), 0);
+  EXPECT_EQ(smoothing("hertz_sphere_3d", "fixed"), 1);
+  EXPECT_EQ(smoothing("thick_cylinder_plastic", "auto"), 0);  // material history
+  EXPECT_EQ(smoothing("cantilever_3d", "auto"), 1);           // linear
+  EXPECT_EQ(smoothing("cantilever_3d", "adaptive"), 0);
+}
+
+// The bodies whose internal force is linear in u keep their tangent (Analysis::evaluate): it is
+// assembled once per sparse pattern and put back at the next tangent evaluations, with f_int =
+// K u. Each example run as it is and with its material made J2-plastic with a yield stress it
+// never reaches (the same elastic answer, but history: its bodies assembled at every
+// evaluation): the same Newton iterations, every check to 1e-9, and the linear run assembles
+// its bodies' tangent at fewer than half of its tangent evaluations, the J2 run never.
+TEST(Analysis, LinearBodiesKeepTheirTangent) {
+  struct Case {
+    const char* example;
+    const char* material;  // the deck's material entry, and the same made J2-plastic
+    const char* plastic;
+  };
+  for (const Case& c : {Case{"hertz_cylinder", "{model: linear_elastic, E: 210000, nu: 0.3}",
+                             "{model: j2_plasticity, E: 210000, nu: 0.3, yield_stress: 1e30}"},
+                        Case{"cattaneo_cylinder", "{model: linear_elastic, E: 210000, nu: 0.3}",
+                             "{model: j2_plasticity, E: 210000, nu: 0.3, yield_stress: 1e30}"}}) {
+    std::string deck = test::example_deck_text(c.example);
+    const test::HertzRun linear = test::run_deck_text(deck, std::string(c.example) + "_linear");
+    test::replace_in_text(deck, c.material, c.plastic);
+    const test::HertzRun plastic = test::run_deck_text(deck, std::string(c.example) + "_j2");
+    ASSERT_TRUE(linear.summary.completed && plastic.summary.completed)
+        << c.example << ": " << linear.summary.failure << plastic.summary.failure;
+    EXPECT_EQ(linear.summary.total_iterations, plastic.summary.total_iterations) << c.example;
+    expect_same_checks(plastic, linear, 1e-9, c.example);
+    std::printf("%s: %d tangent evaluations, the linear bodies' tangent assembled at %d\n", c.example,
+                linear.summary.tangent_evaluations, linear.summary.linear_tangent_assemblies);
+    EXPECT_GE(linear.summary.linear_tangent_assemblies, 1) << c.example;
+    EXPECT_LT(2 * linear.summary.linear_tangent_assemblies, linear.summary.tangent_evaluations) << c.example;
+    EXPECT_EQ(plastic.summary.linear_tangent_assemblies, 0) << c.example;
+    EXPECT_EQ(plastic.summary.tangent_evaluations, linear.summary.tangent_evaluations) << c.example;
+  }
 }

@@ -49,6 +49,8 @@ class Body {
   const std::vector<ElementBlock>& blocks() const { return blocks_; }
   const Material& material() const { return *material_; }
   bool rigid() const { return !material_; }
+  // Its internal force is K u, K independent of u (small strain, a linear material).
+  bool linear() const { return material_ && !settings_.finite_strain && material_->linear_at_small_strain(); }
   // Nodes that follow the body as a rigid body: the reference node set (nodes outside the
   // mesh's cells allowed). Only for rigid bodies.
   const std::vector<Index>& reference_nodes() const { return reference_; }

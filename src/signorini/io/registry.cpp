@@ -193,7 +193,8 @@ void register_linear_solvers(Registry& r) {
          {}});
   const std::string petsc = petsc_available() ? "" : " Not in this build (configured without PETSc).";
   r.add({"linear_solver", "gamg",
-         "PETSc: conjugate gradients (GMRES when unsymmetric) with smoothed-aggregation algebraic multigrid, the "
+         "PETSc: conjugate gradients (GMRES when unsymmetric) with aggregation algebraic multigrid (smoothed; "
+         "plain under adaptive forcing, whose solves redo a cheaper setup at each Newton iteration), the "
          "rigid-body modes as near-nullspace, interpolation reused while the pattern holds. Contact multipliers are "
          "condensed first (or use penalty)." + petsc,
          {}});

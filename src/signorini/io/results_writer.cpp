@@ -505,6 +505,8 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   j += fmt::format("  \"timings\": {{\"assembly_s\": {}, \"contact_s\": {}, \"linear_solve_s\": {}, \"total_s\": {}}},\n",
                    json_number(s.assembly_seconds), json_number(s.contact_seconds), json_number(s.solve_seconds),
                    json_number(log::elapsed()));
+  j += fmt::format("  \"tangents\": {{\"evaluated\": {}, \"linear_bodies_assembled\": {}}},\n", s.tangent_evaluations,
+                   s.linear_tangent_assemblies);
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
   if (a.first_step() > 0) j += fmt::format("  \"restarted_after_step\": {},\n", a.first_step());
   j += fmt::format("  \"algebra\": \"{}\",\n", json_escape(a.algebra()));

@@ -40,6 +40,9 @@ class Material {
   virtual void compute(const MaterialInput& in, Vec6& stress, Mat6& tangent) const = 0;
   // A stiffness scale (Young's modulus or equivalent), used for automatic scalings.
   virtual Real stiffness_scale() const = 0;
+  // Small strain: the stress is a fixed linear map of the strain (no history), so that a
+  // body's internal force is K u with K assembled once (Analysis::evaluate).
+  virtual bool linear_at_small_strain() const { return false; }
 };
 
 // Isotropic elasticity matrix in Voigt form (engineering shears) from Lame constants.
@@ -51,6 +54,7 @@ class LinearElastic final : public Material {
  public:
   LinearElastic(Real E, Real nu);
   std::string model() const override { return "linear_elastic"; }
+  bool linear_at_small_strain() const override { return true; }
   void compute(const MaterialInput& in, Vec6& stress, Mat6& tangent) const override;
   Real stiffness_scale() const override { return E_; }
 
@@ -65,6 +69,7 @@ class NeoHookean final : public Material {
  public:
   NeoHookean(Real E, Real nu);
   std::string model() const override { return "neo_hookean"; }
+  bool linear_at_small_strain() const override { return true; }
   void compute(const MaterialInput& in, Vec6& stress, Mat6& tangent) const override;
   Real stiffness_scale() const override { return E_; }
 

@@ -114,14 +114,41 @@ std::vector<std::vector<Index>> rigid_groups(const Model& m) {
   }
   return groups;
 }
+
+// Whether the Newton iterations' Krylov solves get forcing terms (Analysis::forcing_term):
+// `adaptive`, or `auto` on a nonlinear model (contact, finite strain, material history).
+bool adaptive_forcing(const Model& model) {
+  const std::string& forcing = model.linear_solver.forcing;
+  if (forcing != "auto") return forcing == "adaptive";
+  bool nonlinear = !model.contacts.empty() || model.settings.finite_strain;
+  for (const auto& b : model.bodies) nonlinear = nonlinear || (!b->rigid() && b->material().history_size() > 0);
+  return nonlinear;
+}
+
 }  // namespace
+
+// GAMG's prolongator smoothing. Smoothed aggregation (Vanek, Mandel & Brezina 1996)
+// converges in fewer iterations, but its Galerkin products P^T A P are the bulk of the
+// setup: on the 3D tet4 Hertz model at 148k DOFs, 2 ranks, 8 Newton iterations, the setup
+// took 21.2 s and the CG 4.0 s; plain aggregation 4.8 s and 5.0 s (more, cheaper CG
+// iterations; docs/performance.md).
+// Under adaptive forcing the preconditioner is set up at every Newton iteration (the contact
+// condensation changes the matrix's pattern) for a solve to a loose tolerance, so the setup
+// is what counts: plain aggregation. A linear model solves once to rtol: smoothed aggregation
+// (at 292k hex8 DOFs to 1e-8, 8.5 s against 12.3 s).
+LinearSolverSettings solver_settings(const Model& model) {
+  LinearSolverSettings s = model.linear_solver;
+  s.amg_smoothing = adaptive_forcing(model) ? 0 : 1;
+  return s;
+}
 
 Analysis::Analysis(Model& model)
     : model_(model),
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model), rigid_groups(model)),
-      backend_(make_serial_backend(model.linear_solver, model.settings.dimension == Dimension::three_d)),
+      backend_(make_serial_backend(solver_settings(model), model.settings.dimension == Dimension::three_d)),
       cells_(all_cells(model)) {
   for (auto& b : model.bodies) history_.emplace_back(*b);
+  for (auto& b : model.bodies) linear_bodies_ = linear_bodies_ || b->linear();
   Real stiffness = 0;
   for (auto& b : model.bodies)
     if (!b->rigid()) stiffness = std::max(stiffness, b->material().stiffness_scale());
@@ -231,7 +258,7 @@ void Analysis::choose_algebra() {
         return;
       }
 #ifdef SIGNORINI_HAVE_PETSC
-  backend_ = make_petsc_backend(model_.linear_solver);
+  backend_ = make_petsc_backend(solver_settings(model_));
   backend_->set_coordinates(&model_.mesh.nodes);
   algebra_ = fmt::format("partitioned over {} ranks (each assembles its own cells into its rows of one PETSc matrix; "
                          "cells shared out by {})",
@@ -424,24 +451,43 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
     fint.setZero();
     fext.setZero();
     fc.setZero();
-    if (tangent) backend_->zero();
     // Each rank its own cells (partitioned assembly; one rank: all of them). A failure on one
     // rank stops every rank, with its message.
-    backend_->begin_cells();
-    std::string failure;
-    try {
-      for (size_t i = 0; i < model_.bodies.size(); ++i)
-        model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr,
-                                   &history_[i], dt_, owned_cells_.empty() ? nullptr : &owned_cells_[i]);
-    } catch (const SolverError& e) {
-      if (backend_->ranks() == 1) throw;
-      failure = e.what();
+    auto assemble_bodies = [&](auto&& which) {
+      backend_->begin_cells();
+      std::string failure;
+      try {
+        for (size_t i = 0; i < model_.bodies.size(); ++i)
+          if (which(*model_.bodies[i]))
+            model_.bodies[i]->assemble(model_.mesh.nodes, u_, dofs_, fint, tangent ? &backend_->matrix() : nullptr,
+                                       &history_[i], dt_, owned_cells_.empty() ? nullptr : &owned_cells_[i]);
+      } catch (const SolverError& e) {
+        if (backend_->ranks() == 1) throw;
+        failure = e.what();
+      }
+      backend_->end_cells();
+      if (backend_->ranks() > 1 && backend_->any_failed(failure)) throw SolverError(failure);
+    };
+    // The bodies whose internal force is linear in u (Body::linear): their tangent K_lin is
+    // assembled once per sparse pattern (a pattern lasts an increment, or more), kept by the
+    // backend, and put back at the next evaluations with f_int = K_lin u; the other bodies
+    // are assembled on top. On the 3D tet4 Hertz model (148k DOFs, 2 ranks, 8 Newton iterations)
+    // the assembly went from 16.5 s to 1.4 s (docs/performance.md).
+    const bool split = tangent && linear_bodies_;
+    const bool reused = split && backend_->restore_values();
+    if (tangent && !reused) backend_->zero();
+    summary_.tangent_evaluations += tangent ? 1 : 0;
+    summary_.linear_tangent_assemblies += split && !reused ? 1 : 0;
+    VecX f_linear;
+    if (reused) {
+      backend_->multiply(u_, f_linear);
+    } else if (split) {
+      assemble_bodies([](const Body& b) { return b.linear(); });
+      backend_->save_values();
     }
-    backend_->end_cells();
-    if (backend_->ranks() > 1) {
-      if (backend_->any_failed(failure)) throw SolverError(failure);
-      backend_->sum_over_ranks(fint.data(), fint.size());
-    }
+    assemble_bodies([&](const Body& b) { return !split || !b.linear(); });
+    if (backend_->ranks() > 1) backend_->sum_over_ranks(fint.data(), fint.size());
+    if (reused) fint += f_linear;
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);
     if (!contacts_.empty()) {
@@ -763,9 +809,7 @@ void Analysis::begin_contact_increment(Real lambda) {
 // forcing terms would take three or four.
 Real Analysis::forcing_term(int it, const NewtonSettings& ns, const IncrementRecord& rec) const {
   const LinearSolverSettings& ls = model_.linear_solver;
-  bool nonlinear = !contacts_.empty() || model_.settings.finite_strain;
-  for (const auto& b : model_.bodies) nonlinear = nonlinear || (!b->rigid() && b->material().history_size() > 0);
-  if (ls.forcing == "fixed" || (ls.forcing == "auto" && !nonlinear)) return 0;
+  if (!adaptive_forcing(model_)) return 0;
   constexpr Real kForcingMax = 1e-2;
   const size_t n = rec.residuals.size();
   Real eta = kForcingMax;

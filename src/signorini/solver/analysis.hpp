@@ -63,8 +63,15 @@ struct AnalysisSummary {
   bool interrupted = false;       // stopped by SIGINT/SIGTERM (the state is the last converged one)
   double assembly_seconds = 0, solve_seconds = 0, total_seconds = 0;
   double contact_seconds = 0;  // detection, constraints and enforcement (not in assembly_seconds)
+  // Tangent evaluations, and how many of them assembled the tangent of the bodies whose
+  // internal force is linear in u (the others put back the one kept: Analysis::evaluate).
+  int tangent_evaluations = 0, linear_tangent_assemblies = 0;
   int first_step = 0;          // > 0: continued from a restart file written after that many steps
 };
+
+// The deck's linear solver settings with what the analysis decides for them (GAMG's
+// prolongator smoothing: plain aggregation under adaptive forcing).
+LinearSolverSettings solver_settings(const Model& model);
 
 class Analysis {
  public:
@@ -196,6 +203,7 @@ class Analysis {
   // The relative tolerance a Krylov solve of this Newton iteration is asked for (0: the deck's).
   Real forcing_term(int it, const NewtonSettings& ns, const IncrementRecord& rec) const;
   Real last_forcing_ = 0;  // the last solve's, for the iteration log
+  bool linear_bodies_ = false;  // a body's internal force is linear in u (evaluate keeps its tangent)
   // Scales a Newton step whose turn of a rigid body or obstacle (its free angles) exceeds
   // 0.1 rad down to that.
   void limit_turn(VecX& du) const;

@@ -22,6 +22,19 @@ class SerialBackend final : public AlgebraBackend {
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
     system_.build_pattern(dofs, cells, couplings, total);
     linear_.reset();  // a new pattern needs a new symbolic analysis
+    saved_.clear();
+    saved_.shrink_to_fit();
+  }
+  void save_values() override {
+    const SparseMatrix& m = system_.matrix();
+    saved_.assign(m.valuePtr(), m.valuePtr() + m.nonZeros());
+  }
+  bool restore_values() override {
+    SparseMatrix& m = system_.matrix();
+    if (saved_.empty() || static_cast<Index>(saved_.size()) != m.nonZeros()) return false;
+    system_.zero();  // (the missed-entry flag)
+    std::copy(saved_.begin(), saved_.end(), m.valuePtr());
+    return true;
   }
   Index rows() const override { return system_.matrix().rows(); }
   Index nonzeros() const override { return system_.nonzeros(); }
@@ -75,6 +88,7 @@ class SerialBackend final : public AlgebraBackend {
   std::string linear_name_;
   int last_iterations_ = 0;
   SparseSystem system_;
+  std::vector<Real> saved_;  // save_values()
   AutoLinearSolver linear_;
   CondensedContactSolver condensed_;
   bool condense_reported_ = false;

@@ -71,6 +71,7 @@ Real configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
       check(PCSetType(pc, PCGAMG), "PCSetType");
       PCGAMGSetType(pc, PCGAMGAGG);
       PCGAMGSetReuseInterpolation(pc, PETSC_TRUE);
+      PCGAMGSetNSmooths(pc, s.amg_smoothing);
     } else {
       check(PCSetType(pc, PCHYPRE), "PCSetType (is PETSc built with hypre?)");
       PCHYPRESetType(pc, "boomeramg");
@@ -525,6 +526,37 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     dirty_ = true;
   }
+  // This rank's values (the diagonal and off-diagonal blocks of its rows, after assembly).
+  void save_values() override {
+    ensure_assembled();
+    saved_.clear();
+    for (Mat block : local_blocks()) {
+      const PetscScalar* v = nullptr;
+      const PetscInt nz = block_nonzeros(block);
+      check(MatSeqAIJGetArrayRead(block, &v), "MatSeqAIJGetArrayRead");
+      saved_.emplace_back(v, v + nz);
+      MatSeqAIJRestoreArrayRead(block, &v);
+    }
+    has_saved_ = true;
+  }
+  bool restore_values() override {
+    const std::vector<Mat> blocks = has_saved_ ? local_blocks() : std::vector<Mat>();
+    int ok = has_saved_ && blocks.size() == saved_.size() ? 1 : 0;
+    for (size_t k = 0; ok && k < blocks.size(); ++k)
+      ok = block_nonzeros(blocks[k]) == static_cast<PetscInt>(saved_[k].size());
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    if (!ok) return false;
+    ensure_assembled();
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      PetscScalar* v = nullptr;
+      check(MatSeqAIJGetArrayWrite(blocks[k], &v), "MatSeqAIJGetArrayWrite");
+      std::copy(saved_[k].begin(), saved_[k].end(), v);
+      MatSeqAIJRestoreArrayWrite(blocks[k], &v);
+    }
+    dirty_ = true;  // the next assembly marks A changed (a preconditioner built on it is stale)
+    extra_.clear();
+    return true;
+  }
   GlobalMatrix& matrix() override { return *this; }
   void add(const Index* dofs, int n, const MatX& k) override {
     dirty_ = true;
@@ -858,6 +890,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (T_) MatDestroy(&T_);
     if (Kr_) MatDestroy(&Kr_);
     T_pattern_.clear();
+    saved_.clear();
+    has_saved_ = false;
     if (b_) VecDestroy(&b_);
     if (x_) VecDestroy(&x_);
     if (x_all_) VecDestroy(&x_all_);
@@ -876,6 +910,20 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     return static_cast<Index>(info.nz_used);
   }
   PetscInt row(Index unknown) const { return static_cast<PetscInt>(row_[unknown]); }
+  // A's sequential blocks on this rank: its diagonal and off-diagonal parts (MPIAIJ), or A.
+  std::vector<Mat> local_blocks() const {
+    PetscBool mpi = PETSC_FALSE;
+    PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A_), MATMPIAIJ, &mpi);
+    if (!mpi) return {A_};
+    Mat d = nullptr, o = nullptr;
+    check(MatMPIAIJGetSeqAIJ(A_, &d, &o, nullptr), "MatMPIAIJGetSeqAIJ");
+    return {d, o};
+  }
+  static PetscInt block_nonzeros(Mat block) {
+    MatInfo info;
+    check(MatGetInfo(block, MAT_LOCAL, &info), "MatGetInfo");
+    return static_cast<PetscInt>(info.nz_used);
+  }
   void set_owned(Vec v, const VecX& full) const {
     PetscScalar* p = nullptr;
     check(VecGetArray(v, &p), "VecGetArray");
@@ -1072,6 +1120,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::unordered_map<const ElementBlock*, std::vector<int>> part_;  // each cell's rank
   Index nodal_ = 0;                          // the nodes' DOFs (the unknowns before the extras)
   std::map<std::pair<Index, Index>, Real> extra_;  // entries in an extra unknown's row or column
+  std::vector<std::vector<PetscScalar>> saved_;  // save_values(): local_blocks()' values
+  bool has_saved_ = false;
   std::vector<PetscInt> T_pattern_;          // T's pattern, this rank's rows (count, columns)
   Mat A_ = nullptr, T_ = nullptr, Kr_ = nullptr;  // J; the condensation's T and T^T J T
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
