@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Hertz 3D quarter model (examples/hertz_sphere_3d) at increasing size: DOFs, Newton
 # iterations, wall time split into assembly / contact / linear solve, peak memory, and the
-# errors against Hertz. Usage: [LINEAR=gamg] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]
-# LINEAR: the deck's solver.linear (default: the deck's own, auto).
+# errors against Hertz. Usage: [LINEAR=gamg] [MPIRUN="mpirun -np 2"] bench/hertz3d_scaling.sh
+# [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear (default: the deck's own, auto);
+# MPIRUN: the launcher the solver runs under (default: none, one process).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -16,7 +17,7 @@ for hc in "${sizes[@]}"; do
   sed -e "s|hc: [0-9.]*|hc: $hc|" -e "s|file: hertz_sphere_3d.geo|file: $here/examples/hertz_sphere_3d/hertz_sphere_3d.geo|" \
     "$here/examples/hertz_sphere_3d/hertz_sphere_3d.yaml" > "$work/deck.yaml"
   if [ -n "${LINEAR:-}" ]; then echo "solver: {linear: $LINEAR}" >> "$work/deck.yaml"; fi
-  "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
+  ${MPIRUN:-} "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
   errs=$(grep -o '"error": [^,]*' "$s" | sed 's/.*: //' | head -2 | tr '\n' ' ')

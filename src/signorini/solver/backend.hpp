@@ -41,10 +41,11 @@ class AlgebraBackend {
   virtual void zero() = 0;
   virtual GlobalMatrix& matrix() = 0;
   virtual bool missed() const = 0;
-  // The matrix's values kept (save_values, collective) and put back (restore_values; false,
-  // on every rank alike, when none are kept since the last build_pattern): the tangent of the
-  // bodies whose internal force is linear in u, assembled once per pattern (Analysis::evaluate).
-  // restore_values() stands for zero() followed by that assembly.
+  // The matrix's values kept (save_values, collective; a backend may decline to keep them)
+  // and put back (restore_values; false, on every rank alike, when none are kept since the
+  // last build_pattern): the tangent of the bodies whose internal force is linear in u,
+  // assembled once per pattern (Analysis::evaluate). restore_values() stands for zero()
+  // followed by that assembly.
   virtual void save_values() {}
   virtual bool restore_values() { return false; }
   // y = K x over all unknowns.
