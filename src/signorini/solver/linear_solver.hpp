@@ -25,7 +25,7 @@ struct LinearSolverSettings {
   std::string forcing = "auto";
   // GAMG's prolongator smoothing steps (PCGAMGSetNSmooths; a raw -pc_gamg_agg_nsmooths in
   // `options` wins). Not a deck key: the Analysis sets 0 under adaptive forcing
-  // (Analysis::solver_settings), 1 (smoothed aggregation) otherwise.
+  // (solver_settings, analysis.hpp), 1 (smoothed aggregation) otherwise.
   int amg_smoothing = 1;
   std::string options;
   // Under mpirun: how the cells are shared out between the ranks (rcb, ptscotch).
