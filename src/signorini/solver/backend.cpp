@@ -13,7 +13,6 @@ class SerialBackend final : public AlgebraBackend {
  public:
   SerialBackend(const LinearSolverSettings& linear, bool three_d)
       : linear_name_(linear.type),
-        three_d_(three_d),
         linear_(linear, three_d),
         condensed_(is_amg_solver(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
   std::string name() const override { return "serial"; }
@@ -32,10 +31,7 @@ class SerialBackend final : public AlgebraBackend {
   // 7.0M nonzeros) keeping it saves 1 s of 42 s and costs 56 MB, where the memory is the
   // target (issue 14: at most CalculiX's).
   void save_values() override {
-    const bool iterative = linear_name_ == "auto" ? three_d_ && rows() > AutoLinearSolver::iterative_threshold
-                                                  : linear_name_ == "eigen_cg" || linear_name_ == "petsc" ||
-                                                        is_amg_solver(linear_name_);
-    if (!iterative) return;
+    if (!linear_.iterative(rows())) return;
     const SparseMatrix& m = system_.matrix();
     saved_.assign(m.valuePtr(), m.valuePtr() + m.nonZeros());
   }
@@ -96,7 +92,6 @@ class SerialBackend final : public AlgebraBackend {
 
  private:
   std::string linear_name_;
-  bool three_d_;
   int last_iterations_ = 0;
   SparseSystem system_;
   std::vector<Real> saved_;  // save_values()

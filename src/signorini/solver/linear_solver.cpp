@@ -214,7 +214,7 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   // with UMFPACK against 3.2 GB with CHOLMOD). Else, and for unsymmetric ones, LU (UMFPACK).
   const std::string indefinite = symmetric && petsc_available() && launched_ranks() == 1 ? "mumps" : "umfpack";
   if (want == "auto")
-    want = !spd_wanted ? indefinite : (three_d_ && a.rows() > iterative_threshold ? "eigen_cg" : "cholmod");
+    want = !spd_wanted ? indefinite : (iterative(a.rows()) ? "eigen_cg" : "cholmod");
   if (!solver_ || solver_->name() != want) {
     LinearSolverSettings s = choice_;
     s.type = want;

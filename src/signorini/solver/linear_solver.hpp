@@ -94,6 +94,12 @@ class AutoLinearSolver {
   explicit AutoLinearSolver(LinearSolverSettings choice, bool three_d = false)
       : choice_(std::move(choice)), three_d_(three_d) {}
   static constexpr Index iterative_threshold = 200000;
+  // Whether a symmetric positive definite system of `rows` unknowns goes to an iterative
+  // solver (CG, algebraic multigrid, a PETSc KSP) rather than a factorization.
+  bool iterative(Index rows) const {
+    if (choice_.type == "auto") return three_d_ && rows > iterative_threshold;
+    return choice_.type == "eigen_cg" || choice_.type == "petsc" || is_amg_solver(choice_.type);
+  }
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
   // Solves again with the last factorization (false if there is none or the solve fails).
