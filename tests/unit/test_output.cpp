@@ -49,6 +49,32 @@ TEST(Output, VtuArraysAreConsistent) {
   std::uint8_t type;
   std::memcpy(&type, text.data() + start + offsets[3] + 8, 1);
   EXPECT_EQ(type, 24);
+  // Connectivity in VTK's node order, and each cell's end offset (the arrays are streamed
+  // value by value, so check values, not only sizes).
+  const ElementBlock& blk = *d.cells[0];
+  const ElementInfo& info = element_info(blk.type);
+  for (Index e = 0; e < blk.size(); ++e) {
+    for (int k = 0; k < info.num_nodes; ++k) {
+      std::int64_t c;
+      std::memcpy(&c, text.data() + start + offsets[1] + 8 + 8 * (e * info.num_nodes + k), 8);
+      EXPECT_EQ(c, blk.element(e)[info.vtk_order[k]]) << "cell " << e << " node " << k;
+    }
+    std::int64_t end;
+    std::memcpy(&end, text.data() + start + offsets[2] + 8 + 8 * e, 8);
+    EXPECT_EQ(end, (e + 1) * info.num_nodes);
+  }
+  double z;  // the last point's z
+  std::memcpy(&z, text.data() + start + offsets[0] + 8 + 24 * (m.num_nodes() - 1) + 16, 8);
+  EXPECT_EQ(z, m.nodes.back()(2));
+  EXPECT_EQ(text.substr(text.size() - 28), "\n</AppendedData>\n</VTKFile>\n");
+  // The file streamed to disk is the same bytes.
+  const auto path = (std::filesystem::temp_directory_path() / "signorini_streamed.vtu").string();
+  write_vtu_file(path, d);
+  std::ifstream in(path, std::ios::binary);
+  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(file, text);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  std::filesystem::remove(path);
 }
 
 TEST(Output, AtomicWriteReplacesWholeFile) {

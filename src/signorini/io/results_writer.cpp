@@ -285,7 +285,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   if (!pieces) {
     for (auto& b : m.bodies)
       for (auto& blk : b->blocks()) d.cells.push_back(&blk);
-    write_file_atomically(dir_ + "/" + name, vtu_text(d));
+    write_vtu_file(dir_ + "/" + name, d);
   } else {
     // This rank's piece: its cells, and the nodes they use numbered in order (rank 0's piece
     // also carries the nodes that no cell uses, such as a rigid body's reference node).
@@ -331,7 +331,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     // (rank 0 to list the piece in the .pvd) before every piece is on disk.
     std::string failure;
     try {
-      write_file_atomically(fmt::format("{}/{}_{}.vtu", dir_, stem, a.rank()), vtu_text(d));
+      write_vtu_file(fmt::format("{}/{}_{}.vtu", dir_, stem, a.rank()), d);
     } catch (const std::exception& e) {
       failure = e.what();
     }
@@ -448,7 +448,7 @@ void ResultsWriter::write_contact_vtu(const Analysis& a, Real time, int step, in
       if (local[n] >= 0) id.values[local[n]] = static_cast<Real>(model_.mesh.node_ids[n]);
     d.point_fields = {gap, pres, status, id};
     const std::string file = fmt::format("contact_{}_{:02d}_{:04d}.vtu", name, step + 1, inc);
-    write_file_atomically(dir_ + "/" + file, vtu_text(d));
+    write_vtu_file(dir_ + "/" + file, d);
     auto& list = contact_pvd_[name];
     list.emplace_back(time, file);
     write_file_atomically(dir_ + "/contact_" + name + ".pvd", pvd_text(list));

@@ -2,6 +2,7 @@
 // and a PVD collection that lists them with their pseudo-time. Under mpirun with the cells
 // shared out, each rank writes the piece of its own cells and a PVTU joins the pieces.
 #pragma once
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,12 @@ struct VtuData {
   std::vector<VtuField> cell_fields;
 };
 
-// Returns the XML text of a .vtu file.
+// Writes a .vtu file's XML and appended binary data to `out`, streamed (nothing of the size
+// of the file is held in memory).
+void write_vtu(std::ostream& out, const VtuData& data);
+// The same into `path`, atomically (write_file_atomically).
+void write_vtu_file(const std::string& path, const VtuData& data);
+// Returns the text write_vtu writes (for tests and small files).
 std::string vtu_text(const VtuData& data);
 // Returns the XML text of a .pvtu file that joins `pieces` (.vtu files, each written by
 // vtu_text from data with the same fields as `data`) into one dataset.
