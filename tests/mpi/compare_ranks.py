@@ -36,7 +36,10 @@ with open(copy, "w") as f:
 mpirun = shutil.which("mpirun")
 if mpirun is None:
     sys.exit("mpirun not found (apt install openmpi-bin)")
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+# SIGNORINI_CHECK_CONDENSED_PRODUCT: the partitioned backend checks its T^T J T (condensed
+# contact multipliers) against PETSc's MatPtAP at every solve and stops the run if they differ.
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
+           SIGNORINI_CHECK_CONDENSED_PRODUCT="1")
 
 
 def run(n):

@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -733,9 +734,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // took 4-28 s per Newton iteration, in place about 1 s).
     const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
     std::vector<PetscInt> d_nnz(static_cast<size_t>(nloc), 0), o_nnz(static_cast<size_t>(nloc), 0);
-    std::vector<std::vector<std::pair<PetscInt, PetscScalar>>> rows_T(static_cast<size_t>(nloc));
-    for (Index i = rstart_; i < rend_; ++i) {
-      auto& rt = rows_T[i - rstart_];
+    // Row i of T (a PETSc row; every rank can build any of them from what it holds).
+    auto t_row = [&](Index i, std::vector<std::pair<PetscInt, PetscScalar>>& rt) {
+      rt.clear();
       const Index u = i < n_ ? unknown_[i] : -1;
       const auto it = u >= 0 ? pivot_of.find(u) : pivot_of.end();
       // A stored zero on the diagonal of the multipliers' and pivots' rows, so that T^T J T
@@ -755,8 +756,28 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       std::stable_sort(rt.begin(), rt.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
       rt.erase(std::unique(rt.begin(), rt.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
                rt.end());
+    };
+    std::vector<std::vector<std::pair<PetscInt, PetscScalar>>> rows_T(static_cast<size_t>(nloc));
+    for (Index i = rstart_; i < rend_; ++i) {
+      auto& rt = rows_T[i - rstart_];
+      t_row(i, rt);
       for (const auto& [j, v] : rt) (j >= rstart_ && j < rend_ ? d_nnz : o_nnz)[i - rstart_]++;
     }
+    // The rows of T that are not the identity's, on every rank (T^T J T reads them at A's
+    // columns): multipliers, pivots, and former pivots with their stored zeros.
+    TRows special;
+    special.at.assign(static_cast<size_t>(padded_), -1);
+    auto add_special = [&](Index u) {
+      const Index i = row(u);
+      if (special.at[i] >= 0) return;
+      special.at[i] = static_cast<int>(special.rows.size());
+      special.rows.emplace_back();
+      t_row(i, special.rows.back());
+    };
+    for (Index m = nodal_; m < n_; ++m)
+      if (mult[m]) add_special(m);
+    for (const auto& [u, c] : pivot_of) add_special(u);
+    for (const auto& [u, columns] : pivot_columns_) add_special(u);
     // The same T pattern as at the last solve on every rank: T's values and T^T J T updated in
     // place (and GAMG's interpolation reused); else both made anew.
     std::vector<PetscInt> pattern;
@@ -764,6 +785,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       pattern.push_back(static_cast<PetscInt>(rt.size()));
       for (const auto& [j, v] : rt) pattern.push_back(j);
     }
+    double t_symbolic = 0;  // the product's pattern (a new pattern only)
     int same = T_ && Kr_ && pattern == T_pattern_ ? 1 : 0;
     MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
     if (!same) {
@@ -778,6 +800,27 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       check(MatCreateAIJ(PETSC_COMM_WORLD, nloc, nloc, ng, ng, 0, d_nnz.data(), 0, o_nnz.data(), &T_), "MatCreateAIJ");
       check(MatSetBlockSize(T_, bs_), "MatSetBlockSize");
       T_pattern_ = std::move(pattern);
+      // T^T J T's pattern: the product's entries gathered by a MATPREALLOCATOR.
+      const double t_start = timer.seconds();
+      Mat pre = nullptr;
+      check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
+      check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
+      check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
+      check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
+      check(MatSetUp(pre), "MatSetUp");
+      condensed_product(pre, special);
+      check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (T^T J T pattern)");
+      check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (T^T J T pattern)");
+      check(MatCreate(PETSC_COMM_WORLD, &Kr_), "MatCreate");
+      check(MatSetSizes(Kr_, nloc, nloc, ng, ng), "MatSetSizes");
+      check(MatSetType(Kr_, MATAIJ), "MatSetType");
+      check(MatSetBlockSize(Kr_, bs_), "MatSetBlockSize");
+      check(MatPreallocatorPreallocate(pre, PETSC_TRUE, Kr_), "MatPreallocatorPreallocate");
+      MatDestroy(&pre);
+      MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+      t_symbolic = timer.seconds() - t_start;
+    } else {
+      check(MatZeroEntries(Kr_), "MatZeroEntries");
     }
     for (Index i = rstart_; i < rend_; ++i) {
       const PetscInt pi = static_cast<PetscInt>(i);
@@ -786,8 +829,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     check(MatAssemblyBegin(T_, MAT_FINAL_ASSEMBLY), "assembly (T)");
     check(MatAssemblyEnd(T_, MAT_FINAL_ASSEMBLY), "assembly (T)");
-    const double t_plan = timer.seconds();
-    check(MatPtAP(A_, T_, same ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &Kr_), "MatPtAP");
+    const double t_plan = timer.seconds() - t_symbolic;
+    condensed_product(Kr_, special);
+    check(MatAssemblyBegin(Kr_, MAT_FINAL_ASSEMBLY), "assembly (T^T J T)");
+    check(MatAssemblyEnd(Kr_, MAT_FINAL_ASSEMBLY), "assembly (T^T J T)");
+    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_condensed_product();
     const double t_ptap = timer.seconds();
     // The decoupled rows (pivots and multipliers): the mean magnitude of the diagonal.
     check(MatGetDiagonal(Kr_, x_), "MatGetDiagonal");
@@ -851,6 +897,88 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     for (size_t c = 0; c < closed.size(); ++c) du(closed[c]) = (r(pivot[c]) - Jdu(pivot[c])) / bp[c];
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
     return "condensed+" + s_.type;
+  }
+
+  // The rows of T other than the identity's: at[i] indexes rows (-1: row i is e_i).
+  struct TRows {
+    std::vector<int> at;
+    std::vector<std::vector<std::pair<PetscInt, PetscScalar>>> rows;
+  };
+  // Adds T^T J T into `target` (a MATPREALLOCATOR for the pattern, or the product itself):
+  // (T^T J T)_ab = sum over i, k of T_ia J_ik T_kb, over this rank's rows i of J. T is the
+  // identity but for a few thousand rows (`special`), so each row of J goes, times T, into
+  // row i (most rows) or into the rows a of its T row; no rank forms more than J's rows it
+  // owns, and no intermediate product is kept. Before session 37, PETSc's MatPtAP formed it
+  // and kept its symbolic data for the update in place: about twice the product's own size
+  // (94 MB against 48 MB per rank on the 148k-DOF Hertz model), and 4-9 s per new pattern
+  // on the 1.4M one.
+  void condensed_product(Mat target, const TRows& special) {
+    std::vector<std::pair<PetscInt, PetscScalar>> y;
+    std::vector<PetscInt> cols_out;
+    std::vector<PetscScalar> vals_out;
+    for (PetscInt i = static_cast<PetscInt>(rstart_); i < static_cast<PetscInt>(rend_); ++i) {
+      const int si = special.at[static_cast<size_t>(i)];
+      if (si >= 0 && special.rows[static_cast<size_t>(si)].empty()) continue;  // a multiplier's row: T's is empty
+      PetscInt nc = 0;
+      const PetscInt* cols = nullptr;
+      const PetscScalar* vals = nullptr;
+      check(MatGetRow(A_, i, &nc, &cols, &vals), "MatGetRow");
+      // y = (J T)_i., by column (J's pattern holds every diagonal, so y holds column i).
+      y.clear();
+      bool plain = true;
+      for (PetscInt c = 0; c < nc; ++c) {
+        const int sk = special.at[static_cast<size_t>(cols[c])];
+        if (sk < 0) {
+          y.emplace_back(cols[c], vals[c]);
+        } else {
+          plain = false;
+          for (const auto& [b, t] : special.rows[static_cast<size_t>(sk)]) y.emplace_back(b, vals[c] * t);
+        }
+      }
+      check(MatRestoreRow(A_, i, &nc, &cols, &vals), "MatRestoreRow");
+      if (!plain) {  // by column, one entry per column
+        std::sort(y.begin(), y.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+        size_t w = 0;
+        for (size_t r = 0; r < y.size(); ++r) {
+          if (w > 0 && y[w - 1].first == y[r].first) y[w - 1].second += y[r].second;
+          else y[w++] = y[r];
+        }
+        y.resize(w);
+      }
+      cols_out.resize(y.size());
+      vals_out.resize(y.size());
+      auto add_row = [&](PetscInt a, PetscScalar t) {
+        for (size_t r = 0; r < y.size(); ++r) {
+          cols_out[r] = y[r].first;
+          vals_out[r] = t * y[r].second;
+        }
+        check(MatSetValues(target, 1, &a, static_cast<PetscInt>(y.size()), cols_out.data(), vals_out.data(), ADD_VALUES),
+              "MatSetValues (T^T J T)");
+      };
+      if (si < 0) add_row(i, 1.0);
+      else
+        for (const auto& [a, t] : special.rows[static_cast<size_t>(si)]) add_row(a, t);
+    }
+    // The multipliers' rows have no row of J T, but their diagonal belongs to the pattern.
+    for (PetscInt i = static_cast<PetscInt>(rstart_); i < static_cast<PetscInt>(rend_); ++i) {
+      const int si = special.at[static_cast<size_t>(i)];
+      if (si < 0 || !special.rows[static_cast<size_t>(si)].empty()) continue;
+      const PetscScalar zero = 0.0;
+      check(MatSetValues(target, 1, &i, 1, &i, &zero, ADD_VALUES), "MatSetValues (T^T J T)");
+    }
+  }
+  // SIGNORINI_CHECK_CONDENSED_PRODUCT: T^T J T against PETSc's MatPtAP (the MPI tests).
+  void check_condensed_product() {
+    Mat C = nullptr;
+    check(MatPtAP(A_, T_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C), "MatPtAP");
+    PetscReal norm = 0, diff = 0;
+    check(MatNorm(C, NORM_FROBENIUS, &norm), "MatNorm");
+    check(MatAXPY(C, -1.0, Kr_, DIFFERENT_NONZERO_PATTERN), "MatAXPY");
+    check(MatNorm(C, NORM_FROBENIUS, &diff), "MatNorm");
+    MatDestroy(&C);
+    log::info("condensed product T^T J T against MatPtAP: relative difference {:.1e}", norm > 0 ? diff / norm : diff);
+    if (!(diff <= 1e-12 * norm))
+      throw FatalModelError(fmt::format("T^T J T differs from MatPtAP's by {:.3e} (relative)", norm > 0 ? diff / norm : diff));
   }
 
   // GAMG's near-nullspace on `M` (the layout in PETSc's row order).
