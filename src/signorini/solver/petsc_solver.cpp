@@ -459,13 +459,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     number(dofs, cells);
     rstart_ = starts_[rank_];
     rend_ = starts_[rank_ + 1];
-    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
-    Mat pre = nullptr;
-    check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
-    check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
-    check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
-    check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
-    check(MatSetUp(pre), "MatSetUp");
+    Mat pre = preallocator();
     std::vector<PetscInt> idx;
     std::vector<PetscScalar> zeros;
     auto insert = [&]() {
@@ -496,14 +490,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       idx.assign(1, static_cast<PetscInt>(i));
       insert();
     }
-    check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
-    check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
-    check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
-    check(MatSetSizes(A_, nloc, nloc, ng, ng), "MatSetSizes");
-    check(MatSetType(A_, MATAIJ), "MatSetType");
-    check(MatSetBlockSize(A_, bs_), "MatSetBlockSize");
-    check(MatPreallocatorPreallocate(pre, PETSC_TRUE, A_), "MatPreallocatorPreallocate");
-    MatDestroy(&pre);
+    A_ = preallocated(pre);
     check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
     // Element blocks come column-major; an entry outside the pattern is stored (and reported
@@ -802,21 +789,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       T_pattern_ = std::move(pattern);
       // T^T J T's pattern: the product's entries gathered by a MATPREALLOCATOR.
       const double t_start = timer.seconds();
-      Mat pre = nullptr;
-      check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
-      check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
-      check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
-      check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
-      check(MatSetUp(pre), "MatSetUp");
+      Mat pre = preallocator();
       condensed_product(pre, special);
-      check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (T^T J T pattern)");
-      check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (T^T J T pattern)");
-      check(MatCreate(PETSC_COMM_WORLD, &Kr_), "MatCreate");
-      check(MatSetSizes(Kr_, nloc, nloc, ng, ng), "MatSetSizes");
-      check(MatSetType(Kr_, MATAIJ), "MatSetType");
-      check(MatSetBlockSize(Kr_, bs_), "MatSetBlockSize");
-      check(MatPreallocatorPreallocate(pre, PETSC_TRUE, Kr_), "MatPreallocatorPreallocate");
-      MatDestroy(&pre);
+      Kr_ = preallocated(pre);
       MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
       t_symbolic = timer.seconds() - t_start;
     } else {
@@ -897,6 +872,32 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     for (size_t c = 0; c < closed.size(); ++c) du(closed[c]) = (r(pivot[c]) - Jdu(pivot[c])) / bp[c];
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
     return "condensed+" + s_.type;
+  }
+
+  // A MATPREALLOCATOR of this rank's rows (entries added to it in any rows make the pattern),
+  // and the AIJ matrix preallocated from it, zeros on its pattern (not yet assembled).
+  Mat preallocator() const {
+    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
+    Mat pre = nullptr;
+    check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
+    check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
+    check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
+    check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
+    check(MatSetUp(pre), "MatSetUp");
+    return pre;
+  }
+  Mat preallocated(Mat& pre) const {
+    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
+    check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
+    check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
+    Mat M = nullptr;
+    check(MatCreate(PETSC_COMM_WORLD, &M), "MatCreate");
+    check(MatSetSizes(M, nloc, nloc, ng, ng), "MatSetSizes");
+    check(MatSetType(M, MATAIJ), "MatSetType");
+    check(MatSetBlockSize(M, bs_), "MatSetBlockSize");
+    check(MatPreallocatorPreallocate(pre, PETSC_TRUE, M), "MatPreallocatorPreallocate");
+    MatDestroy(&pre);
+    return M;
   }
 
   // The rows of T other than the identity's: at[i] indexes rows (-1: row i is e_i).
