@@ -207,7 +207,10 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   // The ids the mesh file gives the nodes and cells (Gmsh tags), for finding them in ParaView.
   VtuField node_id{"node_id", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
   for (Index n = 0; n < m.mesh.num_nodes(); ++n) node_id.values[n] = static_cast<Real>(m.mesh.node_ids[n]);
-  d.point_fields = {disp, reac, node_id};
+  // Moved, not copied: at 1.4M DOFs each whole-mesh field is tens of MB.
+  d.point_fields.push_back(std::move(disp));
+  d.point_fields.push_back(std::move(reac));
+  d.point_fields.push_back(std::move(node_id));
   if (!a.contacts().empty()) {
     // Contact state on the slave nodes (status: -1 not a slave node, 0 no master within
     // reach, 1 open, 2 closed); pressure positive in compression.
@@ -220,9 +223,9 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         pres.values[ns.node] = ns.pressure;
         status.values[ns.node] = ns.status;
       }
-    d.point_fields.push_back(gap);
-    d.point_fields.push_back(pres);
-    d.point_fields.push_back(status);
+    d.point_fields.push_back(std::move(gap));
+    d.point_fields.push_back(std::move(pres));
+    d.point_fields.push_back(std::move(status));
   }
   // The cells written: all, or this rank's piece.
   auto kept = [&](size_t bi, size_t blk, Index e) {
@@ -234,6 +237,11 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   const std::vector<std::string> names{"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
   VtuField stress{"stress", 6, {}, names}, strain{"strain", 6, {}, names}, vm{"von_mises", 1, {}, {}},
       body{"body", 1, {}, {}}, cell_id{"cell_id", 1, {}, {}};
+  size_t written = 0;  // cells
+  for (size_t bi = 0; bi < m.bodies.size(); ++bi)
+    for (size_t blk = 0; blk < m.bodies[bi]->blocks().size(); ++blk)
+      for (Index e = 0; e < m.bodies[bi]->blocks()[blk].size(); ++e) written += kept(bi, blk, e);
+  for (VtuField* f : {&stress, &strain, &vm, &body, &cell_id}) f->values.reserve(written * f->components);
   for (size_t bi = 0; bi < m.bodies.size(); ++bi) {
     const Body& b = *m.bodies[bi];
     CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs, &a.history(bi), pieces ? a.owned_cells(bi) : nullptr);
@@ -250,7 +258,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         cell_id.values.push_back(static_cast<Real>(b.blocks()[blk].ids[e]));
       }
   }
-  d.cell_fields = {stress, strain, vm, body, cell_id};
+  for (VtuField* f : {&stress, &strain, &vm, &body, &cell_id}) d.cell_fields.push_back(std::move(*f));
   // The materials' history variables by their names (per cell, the mean over its quadrature
   // points of the committed state; 0 in the cells of bodies whose material has no such value).
   std::vector<std::string> hnames;
@@ -278,7 +286,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         }
       }
     }
-    d.cell_fields.push_back(f);
+    d.cell_fields.push_back(std::move(f));
   }
   const std::string stem = fmt::format("increment_{:02d}_{:04d}", step + 1, inc);
   std::string name = stem + ".vtu";
