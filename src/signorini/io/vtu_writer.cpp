@@ -18,7 +18,7 @@ namespace {
 class Blob {
  public:
   explicit Blob(std::ostream& out) : out_(out) { buffer_.reserve(kChunk); }
-  // A DataArray of `count` values of `type` in `comps` components; its XML line.
+  // A DataArray of `bytes` bytes of `type` values in `comps` components; its XML line.
   std::string declare(const std::string& type, const std::string& name, int comps, std::uint64_t bytes,
                       const std::vector<std::string>& comp_names = {}) {
     std::string s = fmt::format(R"(<DataArray type="{}" Name="{}" NumberOfComponents="{}" format="appended" offset="{}")",
