@@ -33,7 +33,7 @@ void write_vtu_file(const std::string& path, const VtuData& data);
 // Returns the text write_vtu writes (for tests and small files).
 std::string vtu_text(const VtuData& data);
 // Returns the XML text of a .pvtu file that joins `pieces` (.vtu files, each written by
-// vtu_text from data with the same fields as `data`) into one dataset.
+// write_vtu from data with the same fields as `data`) into one dataset.
 std::string pvtu_text(const VtuData& data, const std::vector<std::string>& pieces);
 // Returns the XML text of a .pvd listing (time, file) pairs.
 std::string pvd_text(const std::vector<std::pair<Real, std::string>>& entries);

@@ -792,6 +792,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       Mat pre = preallocator();
       condensed_product(pre, special);
       Kr_ = preallocated(pre);
+      // Every row holds its diagonal (J's, or T's stored zero), so the decoupled diagonal
+      // below adds in place; an entry outside this pattern would be a mistake, not a malloc.
       MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
       t_symbolic = timer.seconds() - t_start;
     } else {
@@ -831,7 +833,6 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       }
       VecRestoreArray(x_, &d);
     }
-    MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
     check(MatDiagonalSet(Kr_, x_, ADD_VALUES), "MatDiagonalSet");
     if (q.body_symmetric != symmetric_ || !ksp_) configured_ = false;
     symmetric_ = q.body_symmetric;
