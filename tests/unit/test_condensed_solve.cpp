@@ -96,6 +96,45 @@ TEST(CondensedSolve, CoupledRowsGiveTheWholeSystemsStep) {
   EXPECT_LT((dz2 - dz).norm(), 1e-12 * dz.norm());
 }
 
+TEST(CondensedSolve, CoupledRowsWithAKrylovInnerSolveStopAtTheForcingTerm) {
+  // The coupled rows above with CG (incomplete Cholesky) as the inner solver, as with
+  // algebraic multigrid: flexible GMRES stops at the Newton iteration's forcing term (the
+  // tolerance asked of the solve), not at kRefinementTolerance, and the Krylov iterations
+  // reported are those of all the inner solves.
+  std::vector<std::vector<std::pair<Index, Real>>> rows;
+  const Index first = 30;
+  for (Index j = 0; j <= 16; ++j) {
+    std::vector<std::pair<Index, Real>> row;
+    if (j % 2 == 0) row.push_back({first + j, 0.8});
+    else row = {{first + j, 0.67}, {first + j - 1, -0.133}, {first + j + 1, -0.133}};
+    row.push_back({j, -0.3});
+    row.push_back({j + 1, -0.2});
+    rows.push_back(row);
+  }
+  // A softer chain, so that incomplete Cholesky is not exact and CG takes several steps.
+  Saddle s = make_system(60, rows, 3);
+  for (Index i = 0; i + 5 < 60; i += 4) {
+    s.J.coeffRef(i, i + 5) -= 0.3;
+    s.J.coeffRef(i + 5, i) -= 0.3;
+    s.J.coeffRef(i, i) += 0.3;
+    s.J.coeffRef(i + 5, i + 5) += 0.3;
+  }
+  auto residual = [&](const VecX& dz) { return (s.r - s.J * dz).norm() / s.r.norm(); };
+  CondensedContactSolver loose(LinearSolverSettings("eigen_cg"), false);
+  loose.set_tolerance(1e-4);
+  VecX dz;
+  ASSERT_TRUE(loose.solve(s.J, s.is_multiplier, true, s.r, dz)) << loose.why_not();
+  EXPECT_LE(residual(dz), 2e-4);
+  EXPECT_GT(residual(dz), 1e-12);  // not solved to the refinement's own tolerance
+  EXPECT_GE(loose.last_iterations(), loose.refinements() + 1);  // every inner solve counted
+  // Asked for the exact step, the same solver gives it.
+  CondensedContactSolver tight(LinearSolverSettings("eigen_cg"), false);
+  tight.set_tolerance(1e-12);
+  ASSERT_TRUE(tight.solve(s.J, s.is_multiplier, true, s.r, dz)) << tight.why_not();
+  EXPECT_LT(error_against_dense(s, dz), 1e-9);
+  EXPECT_GT(tight.refinements(), loose.refinements());
+}
+
 TEST(CondensedSolve, IndefiniteReducedSystemFallsBackToAnIndefiniteFactorization) {
   // The displacement block slightly indefinite (contact's geometric terms can make it so):
   // Cholesky of the reduced system fails, and the fallback (MUMPS's LDL^T with PETSc, else

@@ -32,6 +32,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   const Index n = J.rows();
   why_not_.clear();
   refinements_ = 0;
+  iterations_ = 0;
   // The multiplier rows of J, gathered from its columns in column order (J is column-major;
   // a transpose of the whole matrix would take as much memory again as J).
   std::vector<Index> slot(n, -1);
@@ -127,7 +128,12 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       return false;
     }
   }
-  solver_.set_tolerance(coupled ? 0.0 : tolerance_);
+  // Coupled rows with an iterative inner solver: loose inner solves, GMRES to the forcing term
+  // (kInnerTolerance). With a factorization the inner solve is exact and GMRES goes on to
+  // kRefinementTolerance.
+  const bool inexact = coupled && solver_.iterative(n);
+  const Real outer = inexact ? std::max(kRefinementTolerance, tolerance_ > 0 ? tolerance_ : rtol_) : kRefinementTolerance;
+  solver_.set_tolerance(coupled ? (inexact ? kInnerTolerance : 0.0) : tolerance_);
   // P = J - E: J without the couplings at the pivots (coupled rows only; else P = J). E holds
   // the left-out entries, which sit in closed rows and columns only, so P is never formed.
   auto dropped = [&](Index row, Index col) {
@@ -236,6 +242,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     } else if (!solver_.solve_again(rr, ur)) {
       throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve");
     }
+    iterations_ += solver_.last_iterations();
     out = T * ur + z0;
     // Closed multipliers from their pivots' rows (out holds 0 for them so far).
     const VecX Aout = times_P(out);
@@ -249,7 +256,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   const Real rnorm = r.norm();
   VecX res = r - J * dz;
   Real beta = res.norm();
-  if (!(beta > kRefinementTolerance * rnorm)) {
+  if (!(beta > outer * rnorm)) {
     coupled_backoff_ = 1;
     return true;
   }
@@ -261,7 +268,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   V.push_back(res / beta);
   int k = 0;
   Real err = beta;
-  for (; k < m && err > kRefinementTolerance * rnorm; ++k) {
+  for (; k < m && err > outer * rnorm; ++k) {
     VecX z;
     apply(V[k], z);
     ++refinements_;
@@ -290,7 +297,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
   for (int i = 0; i < k; ++i) dz += y(i) * Z[i];
   const Real final_norm = (r - J * dz).norm();
-  if (final_norm <= kRefinementAccepted * rnorm) {
+  if (final_norm <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
     coupled_backoff_ = 1;
     return true;
   }

@@ -17,7 +17,8 @@ class CondensedContactSolver {
   explicit CondensedContactSolver(bool three_d) : solver_("auto", three_d) {}
   // With algebraic multigrid (gamg, hypre) the eliminated DOFs keep their place in the
   // reduced system as decoupled rows (so that its unknowns stay node-interleaved blocks).
-  CondensedContactSolver(const LinearSolverSettings& linear, bool three_d) : solver_(linear, three_d) {}
+  CondensedContactSolver(const LinearSolverSettings& linear, bool three_d)
+      : solver_(linear, three_d), rtol_(linear.rtol) {}
   // A Krylov inner solver's relative tolerance (0: its configured one). Applied to uncoupled
   // rows only: with coupled rows the inner solve preconditions GMRES, which wants it exact.
   void set_tolerance(Real rtol) { tolerance_ = rtol; }
@@ -25,7 +26,8 @@ class CondensedContactSolver {
     layout_ = std::move(layout);
     pattern_rows_ = -1;
   }
-  int last_iterations() const { return solver_.last_iterations(); }
+  // Krylov iterations of the last solve (with coupled rows: of all its inner solves).
+  int last_iterations() const { return iterations_; }
   // J dz = r with `is_multiplier` flagging the multiplier unknowns; `symmetric`: whether J
   // is symmetric apart from its multiplier rows and columns. Returns false (dz untouched)
   // when the structure does not allow the elimination: a closed constraint with no DOF of
@@ -44,6 +46,12 @@ class CondensedContactSolver {
   static constexpr int kMaxRefinements = 40;
   static constexpr Real kRefinementTolerance = 1e-13;
   static constexpr Real kRefinementAccepted = 1e-9;
+  // With an iterative inner solver (algebraic multigrid, CG) each GMRES step is a Krylov solve,
+  // not two triangular solves: the inner solves stop at kInnerTolerance (GMRES is the flexible
+  // one, Saad 2003 alg. 9.6, which takes a preconditioner that changes from step to step), and
+  // GMRES at the Newton iteration's forcing term (set_tolerance; the deck's rtol without one),
+  // never below kRefinementTolerance.
+  static constexpr Real kInnerTolerance = 1e-2;
 
  private:
   AutoLinearSolver solver_;
@@ -54,7 +62,9 @@ class CondensedContactSolver {
   std::vector<int> pattern_outer_, pattern_inner_;
   int analyses_ = 0;
   Real tolerance_ = 0;
+  Real rtol_ = 1e-8;  // the deck's rtol (the inner Krylov solver's)
   int refinements_ = 0;
+  int iterations_ = 0;
   int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
 };
 

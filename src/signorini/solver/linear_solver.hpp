@@ -103,7 +103,11 @@ class AutoLinearSolver {
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
   // Solves again with the last factorization (false if there is none or the solve fails).
-  bool solve_again(const VecX& b, VecX& x) { return solver_ && solver_->solve(b, x); }
+  bool solve_again(const VecX& b, VecX& x) {
+    if (!solver_) return false;
+    solver_->set_tolerance(tolerance_);
+    return solver_->solve(b, x);
+  }
   std::string last_used() const { return solver_ ? solver_->name() : last_name_; }
   int last_iterations() const { return solver_ ? solver_->iterations() : 0; }
   // The layout of the next systems' unknowns (for algebraic multigrid).
