@@ -252,7 +252,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   log::debug("    condensed solve: {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB", Kr.rows(), Kr.nonZeros(),
              solver_.last_used(), log::memory_mib());
   if (!coupled) return true;
-  // GMRES on J x = r, right-preconditioned by P^-1 (Saad 2003, alg. 9.5), from x0 = P^-1 r.
+  // GMRES on J x = r, right-preconditioned by P^-1, from x0 = P^-1 r. The preconditioned
+  // vectors Z are kept, so P^-1 may change from step to step (flexible GMRES, Saad 2003,
+  // alg. 9.6): an inner Krylov solve to kInnerTolerance.
   const Real rnorm = r.norm();
   VecX res = r - J * dz;
   Real beta = res.norm();
