@@ -240,7 +240,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       solver_.solve(Kr, symmetric, rr, ur);
       factorized = true;
     } else if (!solver_.solve_again(rr, ur)) {
-      throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve");
+      throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve: " +
+                        solver_.failure());
     }
     iterations_ += solver_.last_iterations();
     out = T * ur + z0;

@@ -109,6 +109,8 @@ class AutoLinearSolver {
     return solver_->solve(b, x);
   }
   std::string last_used() const { return solver_ ? solver_->name() : last_name_; }
+  // Why the last solve failed, when the solver knows.
+  std::string failure() const { return solver_ ? solver_->failure() : "no solver"; }
   int last_iterations() const { return solver_ ? solver_->iterations() : 0; }
   // The layout of the next systems' unknowns (for algebraic multigrid).
   void set_layout(std::shared_ptr<const UnknownLayout> layout) {
