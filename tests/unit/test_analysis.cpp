@@ -370,3 +370,41 @@ TEST(LinearSolver, CholeskyComesBackAfterAnIndefiniteTangent) {
   s.solve(spd, true, b, x);
   EXPECT_EQ(s.last_used(), "cholmod");
 }
+
+TEST(LinearSolver, GamgGoesOnWithGmresWhenCgFindsTheSystemIndefinite) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // A condensed contact system can be indefinite (the contact's geometric terms); CG then
+  // breaks down (KSP_DIVERGED_INDEFINITE_MAT). The 2D Laplacian on a 40 x 40 grid, shifted
+  // past its four lowest eigenvalues (8 sin^2(k pi / 82) ...), is such a system: the solver
+  // must go on with GMRES on the same preconditioner and reach rtol on the true residual.
+  const int g = 40, n = g * g;
+  const Real pi = 3.14159265358979323846;
+  auto lambda = [&](int i, int j) {
+    return 4 * std::pow(std::sin(i * pi / (2.0 * (g + 1))), 2) + 4 * std::pow(std::sin(j * pi / (2.0 * (g + 1))), 2);
+  };
+  const Real shift = 0.5 * (lambda(2, 2) + lambda(1, 3));  // between the 4th and 5th eigenvalues
+  std::vector<Eigen::Triplet<Real, int>> t;
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j < g; ++j) {
+      const int k = i * g + j;
+      t.emplace_back(k, k, 4.0 - shift);
+      if (i > 0) t.emplace_back(k, k - g, -1.0);
+      if (i + 1 < g) t.emplace_back(k, k + g, -1.0);
+      if (j > 0) t.emplace_back(k, k - 1, -1.0);
+      if (j + 1 < g) t.emplace_back(k, k + 1, -1.0);
+    }
+  SparseMatrix a(n, n);
+  a.setFromTriplets(t.begin(), t.end());
+  VecX b(n);
+  for (int k = 0; k < n; ++k) b(k) = std::sin(0.37 * k + 0.1);
+  LinearSolverSettings gamg("gamg");
+  gamg.rtol = 1e-8;
+  AutoLinearSolver s(gamg);
+  VecX x;
+  ASSERT_NO_THROW(s.solve(a, true, b, x));
+  EXPECT_LT((a * x - b).norm(), 1e-7 * b.norm());
+  EXPECT_GT(s.last_iterations(), 0);
+  // The next solve of the same matrix starts with GMRES: no breakdown first.
+  ASSERT_TRUE(s.solve_again(2 * b, x));
+  EXPECT_LT((a * x - 2 * b).norm(), 2e-7 * b.norm());
+}

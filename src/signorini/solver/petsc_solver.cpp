@@ -86,6 +86,28 @@ Real configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
   return rtol;
 }
 
+// CG's breakdown on an indefinite system. A condensed contact system can be indefinite: the
+// contact's geometric terms -lambda w hess(g) (measured on the fine tet10 mortar mesh of
+// CalculiX's harness, at its fifth Newton iteration with forcing fixed; Cholesky fails there
+// too, docs/performance.md). The same preconditioner then goes on with GMRES, preconditioned
+// on the right so that rtol stays on the true residual, for the later solves of this matrix
+// too (a new pattern configures CG again). Returns whether it switched.
+bool cg_to_gmres_if_indefinite(KSP ksp, KSPConvergedReason reason) {
+  if (reason != KSP_DIVERGED_INDEFINITE_MAT && reason != KSP_DIVERGED_INDEFINITE_PC) return false;
+  KSPType type = nullptr;
+  KSPGetType(ksp, &type);
+  if (!type || std::string(type) != KSPCG) return false;
+  check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+  KSPGMRESSetRestart(ksp, 200);
+  check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
+  check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+  PetscInt its = 0;
+  KSPGetIterationNumber(ksp, &its);
+  log::debug("    CG found the system indefinite ({} after {} iterations): GMRES with the same preconditioner",
+             KSPConvergedReasons[reason], its);
+  return true;
+}
+
 // A Newton iteration's forcing term (rtol > 0) as the Krylov solver's relative tolerance; 0
 // puts back the configured one (`configured`: the deck's rtol or a raw -ksp_rtol), which a
 // previous solve may have changed. A direct solve has none.
@@ -209,6 +231,10 @@ class PetscKsp final : public LinearSolver {
       check(KSPSolve(ksp_, b_, x_), "KSPSolve");
       KSPConvergedReason reason;
       KSPGetConvergedReason(ksp_, &reason);
+      if (cg_to_gmres_if_indefinite(ksp_, reason)) {
+        check(KSPSolve(ksp_, b_, x_), "KSPSolve");
+        KSPGetConvergedReason(ksp_, &reason);
+      }
       PetscInt its = 0;
       KSPGetIterationNumber(ksp_, &its);
       iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);  // a direct solve: no Krylov iterations
@@ -1012,14 +1038,17 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       configured_ = true;
     }
     apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
-    const PetscErrorCode code = KSPSolve(ksp_, b, x);
-    if (code != 0) {
-      const char* text = nullptr;
-      PetscErrorMessage(code, &text, nullptr);
-      throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
-    }
     KSPConvergedReason reason;
-    KSPGetConvergedReason(ksp_, &reason);
+    for (int attempt = 0;; ++attempt) {
+      const PetscErrorCode code = KSPSolve(ksp_, b, x);
+      if (code != 0) {
+        const char* text = nullptr;
+        PetscErrorMessage(code, &text, nullptr);
+        throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
+      }
+      KSPGetConvergedReason(ksp_, &reason);
+      if (attempt > 0 || !cg_to_gmres_if_indefinite(ksp_, reason)) break;
+    }
     PetscInt its = 0;
     KSPGetIterationNumber(ksp_, &its);
     iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);
