@@ -305,6 +305,12 @@ class PetscKsp final : public LinearSolver {
       // first, so that they never coexist with the new ones (configured again below).
       if (ksp_) KSPDestroy(&ksp_);
       destroy_system();
+      // Allocated at their size (a push_back past the capacity would double it).
+      std::vector<int>().swap(outer_);
+      std::vector<int>().swap(inner_);
+      std::vector<PetscScalar>().swap(values_);
+      outer_.reserve(static_cast<size_t>(np + 1));
+      inner_.reserve(static_cast<size_t>(nnz + np - n));
       outer_.assign(outer, outer + n + 1);
       inner_.assign(inner, inner + nnz);
       sorted_ = true;  // PETSc keeps each row's columns sorted
@@ -356,6 +362,7 @@ class PetscKsp final : public LinearSolver {
   // copy is made on the way (the fine tet10 mortar mesh: 21M entries, 0.25 GB each).
   void create_sequential(Index n, const Real* values) {
     const Index nnz = outer_[n];
+    values_.reserve(inner_.size());
     values_.assign(values, values + nnz);
     values_.resize(inner_.size(), 1.0);  // the padding's identity
     static_assert(sizeof(PetscInt) == sizeof(int), "PETSc built with 64-bit indices");
