@@ -169,6 +169,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   for (Index k = 0; k < n; ++k)
     if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
   std::vector<Real> ap(closed.size()), bp(closed.size());
+  // T's pivot rows both ways: spread[p] = (reduced column, T(p, .)) and through[k] = (pivot p,
+  // T(p, ridx[k])) for a kept unknown k (never a pivot: a pivot's unknowns are its row's own,
+  // or left out with the coupling).
+  std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n)), through(static_cast<size_t>(n));
   for (size_t c = 0; c < closed.size(); ++c) {
     const Index m = closed[c], p = pivot[c];
     bp[c] = J.coeff(p, m);  // never left out: m is p's own row
@@ -177,31 +181,98 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     for (const auto& [k, v] : row_of(m)) {
       if (k == m || k == p || v == 0 || (coupled && dropped(m, k))) continue;
       trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -v / ap[c]);
+      spread[p].emplace_back(ridx[k], -v / ap[c]);
+      through[k].emplace_back(p, -v / ap[c]);
     }
   }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
-  SparseMatrix Kr;
+  // Kr = T^T P T (P = J, or J - E with coupled rows: the same Kr), column by column straight into its
+  // arrays: a counting pass, then the values. Column k of P T is P(:, k) plus T(p, k) P(:, p)
+  // over through[k]; T^T y keeps y on the kept unknowns and spreads each pivot's y_p over
+  // spread[p]. Eigen's product of two square sparse matrices made three copies of the result
+  // (unsorted, transposed to sort it, assigned) next to J T, a copy of J (docs/performance.md).
+  // Structural zeros are kept, so the pattern follows the structure alone. Algebraic multigrid
+  // keeps the pivots' places: their columns (and rows) are empty but for a decoupled diagonal
+  // of the mean magnitude of Kr's diagonal.
+  SparseMatrix Kr(nr, nr);
   {
-    // T^T P T, with P T = J T - E T (the product J T is as large as J: freed before the
-    // factorization, which is where the memory peaks).
-    SparseMatrix AT = J * T;
-    if (coupled) AT -= E * T;
-    Kr = SparseMatrix(T.transpose()) * AT;
+    VecX y = VecX::Zero(n), col = VecX::Zero(nr);
+    std::vector<char> in_y(static_cast<size_t>(n), 0), in_col(static_cast<size_t>(nr), 0);
+    std::vector<Index> rows_y, rows_col;
+    auto add_y = [&](Index a, Real v) {
+      if (!in_y[a]) in_y[a] = 1, rows_y.push_back(a);
+      y(a) += v;
+    };
+    auto add_col = [&](Index i, Real v) {
+      if (!in_col[i]) in_col[i] = 1, rows_col.push_back(i);
+      col(i) += v;
+    };
+    // E's entries sit in the multipliers' rows and columns, which T leaves out: P T's columns
+    // that Kr reads are J's.
+    auto add_column_of_P = [&](Index k, Real w) {
+      for (SparseMatrix::InnerIterator it(J, k); it; ++it) add_y(it.row(), w * it.value());
+    };
+    // Kr's column of kept unknown k into rows_col (sorted) and col.
+    auto column = [&](Index k) {
+      add_column_of_P(k, 1.0);
+      for (const auto& [p, w] : through[k]) add_column_of_P(p, w);
+      for (Index a : rows_y) {
+        const Real v = y(a);
+        y(a) = 0;
+        in_y[a] = 0;
+        if (is_multiplier[a]) continue;  // T's multiplier rows are empty
+        if (pivot_of[a] >= 0) {
+          for (const auto& [i, w] : spread[a]) add_col(i, w * v);
+        } else {
+          add_col(ridx[a], v);
+        }
+      }
+      rows_y.clear();
+      std::sort(rows_col.begin(), rows_col.end());
+    };
+    auto clear_column = [&]() {
+      for (Index i : rows_col) col(i) = 0, in_col[i] = 0;
+      rows_col.clear();
+    };
+    int* outer = Kr.outerIndexPtr();
+    for (Index k = 0; k < n; ++k) {
+      if (ridx[k] < 0) continue;
+      Index count = 1;  // a pivot's place: its decoupled diagonal
+      if (pivot_of[k] < 0) {
+        column(k);
+        count = static_cast<Index>(rows_col.size());
+        clear_column();
+      }
+      outer[ridx[k] + 1] = static_cast<int>(count);
+    }
+    for (Index j = 0; j < nr; ++j) outer[j + 1] += outer[j];
+    Kr.resizeNonZeros(outer[nr]);
+    int* inner = Kr.innerIndexPtr();
+    Real* value = Kr.valuePtr();
+    Real diagonal = 0;
+    for (Index k = 0; k < n; ++k) {
+      if (ridx[k] < 0) continue;
+      const Index j = ridx[k];
+      Index at = outer[j];
+      if (pivot_of[k] >= 0) {
+        inner[at] = static_cast<int>(j);
+        value[at] = 0;  // set below, once the mean is known
+        continue;
+      }
+      column(k);
+      for (Index i : rows_col) {
+        inner[at] = static_cast<int>(i);
+        value[at++] = col(i);
+        if (i == j) diagonal += std::abs(col(i));
+      }
+      clear_column();
+    }
+    const Real mean = nr ? diagonal / static_cast<Real>(nr) : 1.0;
+    for (Index k = 0; k < n; ++k)
+      if (ridx[k] >= 0 && pivot_of[k] >= 0) value[outer[ridx[k]]] = mean > 0 ? mean : 1.0;
   }
-  if (keep_places && !closed.empty()) {
-    // The pivots' rows and columns of Kr are empty: a diagonal of the mean magnitude there.
-    Real mean = 0;
-    for (Index k = 0; k < Kr.outerSize(); ++k) mean += std::abs(Kr.coeff(k, k));
-    mean = nr ? mean / static_cast<Real>(nr) : 1.0;
-    SparseMatrix D(nr, nr);
-    std::vector<Eigen::Triplet<Real, int>> dt;
-    for (Index p : pivot) dt.emplace_back(static_cast<int>(ridx[p]), static_cast<int>(ridx[p]), mean > 0 ? mean : 1.0);
-    D.setFromTriplets(dt.begin(), dt.end());
-    Kr += D;
-  }
-  Kr.makeCompressed();
   // The reduced pattern follows the active set and the pivots: the symbolic factorization is
   // kept while the pattern is the same as at the last solve (most Newton iterations once the
   // active set has settled) and redone when it changed.
