@@ -8,7 +8,8 @@
 #   MESH: a C3D10 .inp or .msh of the harness (default: the coarse one in tests/data/calculix;
 #   the fine one is there too, hertz3d_fine_c3d10.inp; the medium one comes from the harness's
 #   scripts/mesh3d.py, which needs python3-gmsh).
-# DISCRETIZATION=segment_to_segment (or another) runs that instead of mortar.
+# DISCRETIZATION=segment_to_segment (or another) runs that instead of mortar; LINEAR=gamg (or
+# another solver.linear type) solves the condensed system with it (default: auto, CHOLMOD).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -39,6 +40,7 @@ steps:
       - {set: NBOT, uz: 0}
       - {set: NTOP, uz: -0.031}
 output: {vtu: none}
+solver: {linear: {type: ${LINEAR:-auto}}}
 DECK
   "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"

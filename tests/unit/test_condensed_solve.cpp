@@ -50,6 +50,23 @@ Saddle make_system(Index n, const std::vector<std::vector<std::pair<Index, Real>
   return s;
 }
 
+// Rows like segment_to_segment's on tri6 facets (docs/contact.md): a mid-side node's row holds
+// -1/3 of its weight at the two corners beside it, a corner's row its own unknown only; both
+// also see master unknowns. Slave unknowns 30 .. 46, alternately corner and mid-side.
+std::vector<std::vector<std::pair<Index, Real>>> coupled_rows() {
+  std::vector<std::vector<std::pair<Index, Real>>> rows;
+  const Index first = 30;
+  for (Index j = 0; j <= 16; ++j) {
+    std::vector<std::pair<Index, Real>> row;
+    if (j % 2 == 0) row.push_back({first + j, 0.8});
+    else row = {{first + j, 0.67}, {first + j - 1, -0.133}, {first + j + 1, -0.133}};
+    row.push_back({j, -0.3});
+    row.push_back({j + 1, -0.2});
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 Real error_against_dense(const Saddle& s, const VecX& dz) {
   const VecX exact = MatX(s.J).fullPivLu().solve(s.r);
   return (dz - exact).norm() / exact.norm();
@@ -68,21 +85,9 @@ TEST(CondensedSolve, ExactEliminationWhenEachRowHasAnUnknownOfItsOwn) {
 }
 
 TEST(CondensedSolve, CoupledRowsGiveTheWholeSystemsStep) {
-  // Rows like segment_to_segment's on tri6 facets (docs/contact.md): a mid-side node's row
-  // holds -1/3 of its weight at the two corners beside it, a corner's row its own unknown
-  // only; both also see master unknowns. No unknown belongs to one closed row: the exact
-  // elimination does not apply, the refined one must give the whole system's step.
-  std::vector<std::vector<std::pair<Index, Real>>> rows;
-  const Index first = 30;  // slave unknowns first .. first + 16, alternately corner and mid-side
-  for (Index j = 0; j <= 16; ++j) {
-    std::vector<std::pair<Index, Real>> row;
-    if (j % 2 == 0) row.push_back({first + j, 0.8});
-    else row = {{first + j, 0.67}, {first + j - 1, -0.133}, {first + j + 1, -0.133}};
-    row.push_back({j, -0.3});
-    row.push_back({j + 1, -0.2});
-    rows.push_back(row);
-  }
-  const Saddle s = make_system(60, rows, 3);
+  // coupled_rows(): no unknown belongs to one closed row, the exact elimination does not
+  // apply, the refined one must give the whole system's step.
+  const Saddle s = make_system(60, coupled_rows(), 3);
   CondensedContactSolver solver(false);
   VecX dz;
   ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
@@ -101,18 +106,8 @@ TEST(CondensedSolve, CoupledRowsWithAKrylovInnerSolveStopAtTheForcingTerm) {
   // algebraic multigrid: flexible GMRES stops at the Newton iteration's forcing term (the
   // tolerance asked of the solve), not at kRefinementTolerance, and the Krylov iterations
   // reported are those of all the inner solves.
-  std::vector<std::vector<std::pair<Index, Real>>> rows;
-  const Index first = 30;
-  for (Index j = 0; j <= 16; ++j) {
-    std::vector<std::pair<Index, Real>> row;
-    if (j % 2 == 0) row.push_back({first + j, 0.8});
-    else row = {{first + j, 0.67}, {first + j - 1, -0.133}, {first + j + 1, -0.133}};
-    row.push_back({j, -0.3});
-    row.push_back({j + 1, -0.2});
-    rows.push_back(row);
-  }
   // A softer chain, so that incomplete Cholesky is not exact and CG takes several steps.
-  Saddle s = make_system(60, rows, 3);
+  Saddle s = make_system(60, coupled_rows(), 3);
   for (Index i = 0; i + 5 < 60; i += 4) {
     s.J.coeffRef(i, i + 5) -= 0.3;
     s.J.coeffRef(i + 5, i) -= 0.3;
