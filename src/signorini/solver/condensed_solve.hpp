@@ -19,8 +19,9 @@ class CondensedContactSolver {
   // reduced system as decoupled rows (so that its unknowns stay node-interleaved blocks).
   CondensedContactSolver(const LinearSolverSettings& linear, bool three_d)
       : solver_(linear, three_d), rtol_(linear.rtol) {}
-  // A Krylov inner solver's relative tolerance (0: its configured one). Applied to uncoupled
-  // rows only: with coupled rows the inner solve preconditions GMRES, which wants it exact.
+  // The Newton iteration's forcing term (0: the configured rtol). Uncoupled rows: the Krylov
+  // inner solver's relative tolerance. Coupled rows: GMRES's, when the inner solver is
+  // iterative (kInnerTolerance); with a factorization GMRES goes to kRefinementTolerance.
   void set_tolerance(Real rtol) { tolerance_ = rtol; }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) {
     layout_ = std::move(layout);
