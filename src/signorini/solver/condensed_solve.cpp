@@ -169,10 +169,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   for (Index k = 0; k < n; ++k)
     if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
   std::vector<Real> ap(closed.size()), bp(closed.size());
-  // T's pivot rows both ways: spread[p] = (reduced column, T(p, .)) and through[k] = (pivot p,
-  // T(p, ridx[k])) for a kept unknown k (never a pivot: a pivot's unknowns are its row's own,
-  // or left out with the coupling).
-  std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n)), through(static_cast<size_t>(n));
+  // T's pivot rows, row by row (T is stored by columns): spread[p] = (reduced column, T(p, .)).
+  std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n));
   for (size_t c = 0; c < closed.size(); ++c) {
     const Index m = closed[c], p = pivot[c];
     bp[c] = J.coeff(p, m);  // never left out: m is p's own row
@@ -182,16 +180,15 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       if (k == m || k == p || v == 0 || (coupled && dropped(m, k))) continue;
       trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -v / ap[c]);
       spread[p].emplace_back(ridx[k], -v / ap[c]);
-      through[k].emplace_back(p, -v / ap[c]);
     }
   }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
   // Kr = T^T P T (P = J, or J - E with coupled rows: the same Kr), column by column straight into its
-  // arrays: a counting pass, then the values. Column k of P T is P(:, k) plus T(p, k) P(:, p)
-  // over through[k]; T^T y keeps y on the kept unknowns and spreads each pivot's y_p over
-  // spread[p]. Eigen's product of two square sparse matrices made three copies of the result
+  // arrays: a counting pass, then the values. Column j of P T is the sum of P(:, a) T(a, j)
+  // over T's column j (the kept unknown's own 1, and the pivots whose row holds it); T^T y
+  // keeps y on the kept unknowns and spreads each pivot's y_p over spread[p]. Eigen's product of two square sparse matrices made three copies of the result
   // (unsorted, transposed to sort it, assigned) next to J T, a copy of J (docs/performance.md).
   // Structural zeros are kept, so the pattern follows the structure alone. Algebraic multigrid
   // keeps the pivots' places: their columns (and rows) are empty but for a decoupled diagonal
@@ -216,8 +213,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     };
     // Kr's column of kept unknown k into rows_col (sorted) and col.
     auto column = [&](Index k) {
-      add_column_of_P(k, 1.0);
-      for (const auto& [p, w] : through[k]) add_column_of_P(p, w);
+      for (SparseMatrix::InnerIterator t(T, ridx[k]); t; ++t) add_column_of_P(t.row(), t.value());
       for (Index a : rows_y) {
         const Real v = y(a);
         y(a) = 0;
