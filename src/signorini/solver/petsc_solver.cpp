@@ -108,6 +108,17 @@ bool cg_to_gmres_if_indefinite(KSP ksp, KSPConvergedReason reason) {
   return true;
 }
 
+// KSPSolve, and once more after cg_to_gmres_if_indefinite switched; `reason` the last solve's.
+// Returns PETSc's error code (0: the solve ran, converged or not).
+PetscErrorCode solve_krylov(KSP ksp, Vec b, Vec x, KSPConvergedReason& reason) {
+  for (int attempt = 0;; ++attempt) {
+    const PetscErrorCode code = KSPSolve(ksp, b, x);
+    if (code != 0) return code;
+    KSPGetConvergedReason(ksp, &reason);
+    if (attempt > 0 || !cg_to_gmres_if_indefinite(ksp, reason)) return 0;
+  }
+}
+
 // A Newton iteration's forcing term (rtol > 0) as the Krylov solver's relative tolerance; 0
 // puts back the configured one (`configured`: the deck's rtol or a raw -ksp_rtol), which a
 // previous solve may have changed. A direct solve has none.
@@ -228,13 +239,8 @@ class PetscKsp final : public LinearSolver {
       for (Index i = rstart_; i < rend_; ++i) pb[i - rstart_] = i < n ? b(i) : 0.0;
       VecRestoreArray(b_, &pb);
       apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
-      check(KSPSolve(ksp_, b_, x_), "KSPSolve");
       KSPConvergedReason reason;
-      KSPGetConvergedReason(ksp_, &reason);
-      if (cg_to_gmres_if_indefinite(ksp_, reason)) {
-        check(KSPSolve(ksp_, b_, x_), "KSPSolve");
-        KSPGetConvergedReason(ksp_, &reason);
-      }
+      check(solve_krylov(ksp_, b_, x_, reason), "KSPSolve");
       PetscInt its = 0;
       KSPGetIterationNumber(ksp_, &its);
       iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);  // a direct solve: no Krylov iterations
@@ -1046,15 +1052,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
     KSPConvergedReason reason;
-    for (int attempt = 0;; ++attempt) {
-      const PetscErrorCode code = KSPSolve(ksp_, b, x);
-      if (code != 0) {
-        const char* text = nullptr;
-        PetscErrorMessage(code, &text, nullptr);
-        throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
-      }
-      KSPGetConvergedReason(ksp_, &reason);
-      if (attempt > 0 || !cg_to_gmres_if_indefinite(ksp_, reason)) break;
+    const PetscErrorCode code = solve_krylov(ksp_, b, x, reason);
+    if (code != 0) {
+      const char* text = nullptr;
+      PetscErrorMessage(code, &text, nullptr);
+      throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
     }
     PetscInt its = 0;
     KSPGetIterationNumber(ksp_, &its);
