@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "common.hpp"
+#include "example_deck.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/io/deck.hpp"
 #include "signorini/mesh/structured.hpp"
 #include "signorini/solver/analysis.hpp"
 
@@ -407,4 +410,40 @@ TEST(LinearSolver, GamgGoesOnWithGmresWhenCgFindsTheSystemIndefinite) {
   // The next solve of the same matrix starts with GMRES: no breakdown first.
   ASSERT_TRUE(s.solve_again(2 * b, x));
   EXPECT_LT((a * x - 2 * b).norm(), 2e-7 * b.norm());
+}
+
+// The unknowns after the displacements in the user's words (the failed increment's "largest
+// residual at ..."): the tube crush (examples/tube_crush: two rigid cylinders with Lagrange
+// multipliers and a self-contact fold), its fold made frictional so that it has tangential
+// multipliers.
+TEST(Analysis, DescribesEveryKindOfUnknown) {
+  log::set_level(log::Level::warning);
+  const test::ExampleDeck ex = test::example_deck_with("tube_crush", "order: 1, nu: 8, nl: 6");
+  ASSERT_TRUE(test::replace_in_deck(ex, "{name: fold, surface: Inner, self: true}",
+                                    "{name: fold, surface: Inner, self: true, friction: {law: coulomb, mu: 0.3}}"));
+  Registry r = default_registry();
+  Model m = read_deck(ex.deck.string(), r);
+  std::filesystem::remove_all(ex.dir);
+  Analysis a(m);
+  const ContactInterface *fold = nullptr, *top = nullptr;
+  for (const auto& c : a.contacts()) {
+    if (c->settings().name == "fold") fold = c.get();
+    if (c->settings().name == "top") top = c.get();
+  }
+  ASSERT_TRUE(fold && top);
+  ASSERT_GT(fold->num_multipliers(), 0);
+  ASSERT_EQ(top->num_obstacle_dofs(), 2);
+  const std::vector<Index>& slaves = fold->slave().nodes;
+  const Index o = fold->multiplier_offset(), n = static_cast<Index>(slaves.size());
+  const std::string id1 = std::to_string(m.mesh.node_ids[slaves[1]]), id2 = std::to_string(m.mesh.node_ids[slaves[2]]);
+  EXPECT_EQ(a.describe_unknown(o + 1),
+            "unknown " + std::to_string(o + 1) + " (contact 'fold': the normal multiplier of slave mesh node " + id1 + ")");
+  // Two tangential multipliers per node in plane strain, after all the normal ones.
+  EXPECT_NE(a.describe_unknown(o + n + 5).find("contact 'fold': a tangential multiplier of slave mesh node " + id2),
+            std::string::npos)
+      << a.describe_unknown(o + n + 5);
+  EXPECT_NE(a.describe_unknown(top->obstacle_dofs() + 1).find("contact 'top': the rigid obstacle's displacement along y"),
+            std::string::npos)
+      << a.describe_unknown(top->obstacle_dofs() + 1);
+  EXPECT_NE(a.describe_unknown(0).find("mesh node"), std::string::npos) << a.describe_unknown(0);
 }

@@ -695,17 +695,28 @@ void Analysis::check_tangent(Real lambda, const VecX& u0, const VecX& du, Real d
   const auto view_m = contact_view();
   u_ = u0;
   const VecX fd = (rm - rp) / (2 * h);
-  Real err = 0, ref = 0;
-  Index worst = -1;
+  // The displacement rows (forces) and the rows after them (the constraints' gaps and slips,
+  // whose scale is a length) apart: an error in a gap row is invisible against the forces.
+  Real err = 0, ref = 0, err_c = 0, ref_c = 0;
+  Index worst = -1, worst_c = -1;
   for (Index i = 0; i < fd.size(); ++i) {
     if (constrained_[i]) continue;
-    if (std::abs(fd(i) - kd(i)) > err) err = std::abs(fd(i) - kd(i)), worst = i;
-    ref = std::max(ref, std::abs(kd(i)));
+    const Real e = std::abs(fd(i) - kd(i));
+    if (i < dofs_.num_dofs()) {
+      if (e > err) err = e, worst = i;
+      ref = std::max(ref, std::abs(kd(i)));
+    } else {
+      if (e > err_c) err_c = e, worst_c = i;
+      ref_c = std::max(ref_c, std::abs(kd(i)));
+    }
   }
   Index big = 0;
   du.head(dofs_.num_dofs()).cwiseAbs().maxCoeff(&big);
   log::info("    tangent check: max |K du - FD| / max |K du| = {:.3e} (at {}), max |du| {:.3e} (at {})",
             ref > 0 ? err / ref : err, describe_unknown(worst), du_max, describe_unknown(big));
+  if (worst_c >= 0)
+    log::info("    tangent check, constraint rows: {:.3e} (at {}: K du {:.6e}, FD {:.6e})", ref_c > 0 ? err_c / ref_c : err_c,
+              describe_unknown(worst_c), kd(worst_c), fd(worst_c));
   const Index nd = node_of_unknown(worst);
   if (view_p.count(nd)) log::info("      at +h:{}\n      at -h:{}", view_p.at(nd), view_m.at(nd));
 }
@@ -733,7 +744,31 @@ Index Analysis::node_of_unknown(Index unknown) const {
 
 std::string Analysis::describe_unknown(Index unknown) const {
   if (unknown < 0) return "no unknown";
-  if (unknown >= dofs_.num_dofs()) return fmt::format("unknown {} (a contact multiplier or a rigid body's)", unknown);
+  if (unknown >= dofs_.num_dofs()) {
+    // The unknowns after the displacements: each pair's multipliers (one normal per slave node,
+    // then dim tangential per node with friction), a rigid obstacle's displacement, a turning
+    // rigid body's angles.
+    static const char* kAxis[] = {"x", "y", "z"};
+    for (const auto& c : contacts_) {
+      const Index o = c->multiplier_offset(), n = static_cast<Index>(c->slave().nodes.size());
+      if (c->num_multipliers() > 0 && unknown >= o && unknown < o + c->num_multipliers()) {
+        const Index k = unknown - o;
+        if (k < n)
+          return fmt::format("unknown {} (contact '{}': the normal multiplier of slave mesh node {})", unknown, c->label(),
+                             model_.mesh.node_ids[c->slave().nodes[k]]);
+        const int dim = model_.settings.spatial_dim();
+        return fmt::format("unknown {} (contact '{}': a tangential multiplier of slave mesh node {})", unknown, c->label(),
+                           model_.mesh.node_ids[c->slave().nodes[(k - n) / dim]]);
+      }
+      if (c->num_obstacle_dofs() > 0 && unknown >= c->obstacle_dofs() && unknown < c->obstacle_dofs() + c->num_obstacle_dofs())
+        return fmt::format("unknown {} (contact '{}': the rigid obstacle's displacement along {})", unknown, c->label(),
+                           kAxis[std::min<Index>(unknown - c->obstacle_dofs(), 2)]);
+    }
+    for (size_t b = 0; b < rotations_.dof.size(); ++b)
+      if (unknown >= rotations_.dof[b] && unknown < rotations_.dof[b] + rotations_.angles)
+        return fmt::format("unknown {} (an angle of a turning rigid body)", unknown);
+    return fmt::format("unknown {} (a contact multiplier or a rigid body's)", unknown);
+  }
   const Index nd = node_of_unknown(unknown);
   if (nd < 0) return fmt::format("unknown {}", unknown);
   static const char* kCartesian[] = {"u_x", "u_y", "u_z"};

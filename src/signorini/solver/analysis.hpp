@@ -143,6 +143,10 @@ class Analysis {
   const std::vector<size_t>& turning_bodies() const { return turning_bodies_; }
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
   std::vector<std::string> reaction_sets() const;
+  // An unknown in the user's words, for the messages that point at one (the largest residual
+  // of a failed increment): "mesh node 812, u_x", a pair's normal or tangential multiplier and
+  // its slave node, a rigid obstacle's displacement, a turning body's angle.
+  std::string describe_unknown(Index unknown) const;
 
  private:
   struct Prescribed {
@@ -225,8 +229,6 @@ class Analysis {
   void check_tangent(Real lambda, const VecX& u0, const VecX& du, Real du_max);
   // The mesh node whose displacement `unknown` is (-1: none).
   Index node_of_unknown(Index unknown) const;
-  // An unknown in the user's words: "mesh node 812, u_x", or what else it is.
-  std::string describe_unknown(Index unknown) const;
   // Where the largest free entry of the residual r sits, for a failed increment's message.
   std::string largest_residual(const VecX& r) const;
 
