@@ -44,6 +44,7 @@
 #include "signorini/contact/geometry/dual.hpp"
 #include "signorini/contact/geometry/hyper_dual.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/fem/quadrature.hpp"
 
 namespace signorini {
 
@@ -348,23 +349,38 @@ Real twice_signed_area(const std::vector<V2<T>>& poly) {
   return a;
 }
 
-// The rule on a triangular cell (reference triangle (0,0), (1,0), (0,1); weights sum to 1/2):
-// degree 4, 6 points (Dunavant 1985, "High degree efficient symmetrical Gaussian quadrature rules
-// for the triangle", IJNME 21; monomials to degree 4 exact to 5e-16 with these digits), exact for
-// M_ik and G_k of a flat tri6 slave on a tri6 master and of a parallelogram quad4 slave
-// (biquadratic), and otherwise close. A tri3 slave on a tri3 master needs no rule (the polygon's
-// moments, below).
+// The rule on a triangular cell (reference triangle (0,0), (1,0), (0,1); weights sum to 1/2) for
+// a slave facet of ns nodes: of the degree of the mass integrands N_i N_k in the slave parameter.
+// The rule's error is what changes when the cells change (the clipped polygon gains or loses a
+// vertex as a master corner crosses a slave edge, and its fan other triangles): below that
+// degree, on curved quad8 and quad9 facets, the weighted gaps moved by 1e-5 of their size
+// between two cuttings of one master surface (Mortar3d.WeightedGapsDoNotDependOnTheMastersCells;
+// 2e-8 and 3e-9 with these rules), and M_55 of a quad9 facet on the 3D tube slice's fold by 1 %
+// from one Newton iterate to the next, which cycled across the jump:
+//  - tri3, quad4, tri6 (degree 2, 4, 4): degree 4, 6 points (Dunavant 1985, "High degree
+//    efficient symmetrical Gaussian quadrature rules for the triangle", IJNME 21; monomials to
+//    degree 4 exact to 5e-16 with these digits), exact for M_ik and G_k of a flat tri6 slave on
+//    a tri6 master and of a parallelogram quad4 slave (biquadratic), and otherwise close;
+//  - quad8 (N up to xi^2 eta: degree 6) and quad9 (xi^2 eta^2: degree 8): the collapsed Gauss
+//    rule of that degree (fem/quadrature, quadrature_rule), 16 and 25 points.
+// A tri3 slave on a tri3 master needs no rule (the polygon's moments, below).
 struct CellPoint {
   Real r, s, weight;
 };
-const std::vector<CellPoint>& cell_rule() {
+const std::vector<CellPoint>& cell_rule(int ns) {
   static const std::vector<CellPoint> four = [] {
     const Real a = 0.445948490915965, b = 0.091576213509771;
     const Real wa = 0.223381589678011 / 2, wb = 0.109951743655322 / 2;
     return std::vector<CellPoint>{{a, a, wa}, {1 - 2 * a, a, wa}, {a, 1 - 2 * a, wa},
                                   {b, b, wb}, {1 - 2 * b, b, wb}, {b, 1 - 2 * b, wb}};
   }();
-  return four;
+  auto of_degree = [](int degree) {
+    std::vector<CellPoint> out;
+    for (const QuadraturePoint& q : quadrature_rule(ElementType::tri3, degree)) out.push_back({q.xi(0), q.xi(1), q.weight});
+    return out;
+  };
+  static const std::vector<CellPoint> six = of_degree(6), eight = of_degree(8);
+  return ns == 9 ? eight : ns == 8 ? six : four;
 }
 
 // One integration point of the cells, for friction's slip (plain numbers): the slave and master
@@ -486,7 +502,7 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
     // by the reference element); were it not, its fan's triangles count with their signed areas,
     // which still sum to its integrals.
     const V2<T>& c = cell[0];
-    const std::vector<CellPoint>& rule = cell_rule();
+    const std::vector<CellPoint>& rule = cell_rule(ns);
     for (int i = 1; i + 1 < nc; ++i) {
       const V2<T> e1 = cell[i] - c, e2 = cell[i + 1] - c;
       const T det = cross2(e1, e2);
