@@ -446,4 +446,13 @@ TEST(Analysis, DescribesEveryKindOfUnknown) {
             std::string::npos)
       << a.describe_unknown(top->obstacle_dofs() + 1);
   EXPECT_NE(a.describe_unknown(0).find("mesh node"), std::string::npos) << a.describe_unknown(0);
+  // A turning meshed rigid body's angle (examples/rolling_rigid_mesh: the roller): its unknown
+  // is the last one.
+  const test::ExampleDeck roll = test::example_deck_with("rolling_rigid_mesh", "");
+  Model mr = read_deck(roll.deck.string(), r);
+  std::filesystem::remove_all(roll.dir);
+  Analysis ar(mr);
+  ASSERT_EQ(ar.turning_bodies().size(), 1u);
+  const Index last = ar.num_unknowns() - 1;
+  EXPECT_EQ(ar.describe_unknown(last), "unknown " + std::to_string(last) + " (an angle of the turning rigid body 'roller')");
 }

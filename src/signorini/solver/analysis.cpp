@@ -766,7 +766,8 @@ std::string Analysis::describe_unknown(Index unknown) const {
     }
     for (size_t b = 0; b < rotations_.dof.size(); ++b)
       if (unknown >= rotations_.dof[b] && unknown < rotations_.dof[b] + rotations_.angles)
-        return fmt::format("unknown {} (an angle of a turning rigid body)", unknown);
+        return fmt::format("unknown {} (an angle of the turning rigid body '{}')", unknown,
+                           model_.bodies[turning_bodies_[b]]->name());
     return fmt::format("unknown {} (a contact multiplier or a rigid body's)", unknown);
   }
   const Index nd = node_of_unknown(unknown);
