@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common.hpp"
+#include "signorini/core/error.hpp"
 #include "signorini/fem/history.hpp"
 #include "signorini/fem/surface_load.hpp"
 #include "signorini/material/j2_plasticity.hpp"
@@ -242,3 +243,28 @@ TEST(BodyForce, PositionDependentForceIsIntegratedExactly) {
   EXPECT_NEAR(fx, 2 * std::numbers::pi * k * (1.5 * 1.5 * 1.5 - 0.125) / 3 * 0.8, 1e-11);
   EXPECT_NEAR(fy, 0, 1e-12);
 }
+
+// An element that a state turns inside out is named, with its body, in the failure (which the
+// analysis' line search passes on when no shortened step can be evaluated): a Neo-Hookean block
+// whose right column of nodes is moved past its left one.
+TEST(BodyFailure, InvertedElementIsNamedWithItsBody) {
+  Mesh mesh = structured_rectangle(ElementType::quad4, 2, 1, 1.0, 1.0);
+  AnalysisSettings s;
+  s.dimension = Dimension::plane_strain;
+  s.finite_strain = true;
+  Body body("slab", mesh.regions["domain"], std::make_shared<NeoHookean>(100, 0.3), s);
+  DofMap dofs(mesh.num_nodes(), 2, test::cells_of(body));
+  VecX u = VecX::Zero(dofs.num_dofs());
+  for (Index n = 0; n < mesh.num_nodes(); ++n)
+    if (mesh.nodes[n].x() > 0.99) u(dofs.dof(n, 0)) = -0.9;  // x = 1 -> 0.1, left of x = 0.5
+  VecX f = VecX::Zero(dofs.num_dofs());
+  try {
+    body.assemble(mesh.nodes, u, dofs, f, nullptr, nullptr);
+    ADD_FAILURE() << "an inverted element was evaluated";
+  } catch (const SolverError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("non-positive volume ratio"), std::string::npos) << what;
+    EXPECT_NE(what.find("(element 2 of body slab)"), std::string::npos) << what;
+  }
+}
+

@@ -237,7 +237,7 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
 #pragma omp critical(signorini_body_failure)
             if (failed < 0 || e < failed) {
               failed = e;
-              failure = std::string(ex.what()) + " (element " + std::to_string(b.ids[e]) + ")";
+              failure = std::string(ex.what()) + " (element " + std::to_string(b.ids[e]) + " of body " + name_ + ")";
             }
           }
         }

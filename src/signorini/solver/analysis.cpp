@@ -954,6 +954,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
   Real alpha = 1;
   bool search = ns.line_search;
   int limits = 0;
+  std::string why;  // the last evaluation's failure, for the message when no step can be evaluated
   for (int ls = 0;; ++ls) {
     u_ = u0 + alpha * du;
     bool ok = true;
@@ -961,8 +962,10 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
       new_scale = evaluate(lambda, true, Rtrial);
       new_norm = force_norm(Rtrial);
       ok = std::isfinite(new_norm);
-    } catch (const SolverError&) {
+      if (!ok) why = "a non-finite residual";
+    } catch (const SolverError& e) {
       ok = false;  // e.g. an element turned inside out: shorten the step
+      why = e.what();
     }
     if (statuses && ls == 0) search = !ok || contact_statuses() == *statuses;
     // Penetration limit (`penetration_step`, kappa facet sizes; Lagrange multipliers and
@@ -1000,7 +1003,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
     }
     if (ok && (!search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
     if (!search || ls >= 6) {
-      if (!ok) throw SolverError("non-physical state (inverted element) even with a short step");
+      if (!ok) throw SolverError("non-physical state even with a short step: " + why);
       break;
     }
     alpha *= 0.5;
