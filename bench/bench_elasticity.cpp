@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   if (!no_solve) {
     log::Timer t_solve;
     AutoLinearSolver ls(LinearSolverSettings(solver), true);
-    if (ls.wants_layout()) {  // algebraic multigrid: the rigid-body modes from the nodes
+    if (ls.wants_layout(dofs.num_dofs())) {  // algebraic multigrid: the rigid-body modes from the nodes
       auto layout = std::make_shared<UnknownLayout>();
       layout->dim = 3;
       layout->x.resize(dofs.num_dofs());

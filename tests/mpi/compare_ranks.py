@@ -7,6 +7,10 @@ for its own cells only) must agree too, to `tolerance` relative to each field's 
 With ALGEBRA ("partitioned" or "replicated"), summary.json must say that the N ranks shared the
 algebra that way.
 With PARTITION (rcb or ptscotch), the N ranks share the cells out that way (solver.linear.partition).
+LINEAR "auto" leaves the choice to the solver, which under mpirun must pick mumps (the example
+being below the default iterative_above); "auto@K" sets iterative_above K, below the example's
+unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
+distributed backend condenses). summary.json's linear type says what was picked.
 Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
 import glob
 import json
@@ -28,7 +32,9 @@ with open(deck) as f:
 folder = os.path.dirname(os.path.abspath(deck))
 text = text.replace("file: ", "file: " + folder + "/", 1)
 text = "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
-text += "\nsolver: {linear: {type: %s, rtol: 1e-10, partition: %s}}\n" % (linear, partition)
+linear_type, _, iterative_above = linear.partition("@")
+extra = ", iterative_above: %s" % iterative_above if iterative_above else ""
+text += "\nsolver: {linear: {type: %s, rtol: 1e-10, partition: %s%s}}\n" % (linear_type, partition, extra)
 copy = os.path.join(work, "deck.yaml")
 with open(copy, "w") as f:
     f.write(text)
@@ -59,6 +65,9 @@ many, log = run(ranks)
 assert one["status"] == "completed" and many["status"] == "completed", (one["status"], many["status"])
 assert one["mpi_ranks"] == 1 and many["mpi_ranks"] == ranks, (one["mpi_ranks"], many["mpi_ranks"])
 assert log.count("Solved") == 1, "rank 0 alone should print the summary:\n" + log
+if linear_type == "auto":
+    picked = "gamg" if iterative_above else "mumps"
+    assert many["linear"]["type"] == picked, "auto on %d ranks: %s, not %s" % (ranks, many["linear"]["type"], picked)
 if expected_algebra:
     assert many["algebra"].startswith(expected_algebra), many["algebra"]
     if expected_algebra == "partitioned":

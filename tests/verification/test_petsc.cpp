@@ -185,6 +185,36 @@ TEST(InexactNewton, AdaptiveForcingCutsKrylovIterationsNotTheAnswer) {
   EXPECT_LT(expect_adaptive_forcing_pays("hertz_sphere_3d", "gamg", {}, "-pc_gamg_agg_nsmooths 1"), 0.7);
 }
 
+// `linear: auto` on a symmetric 3D system above `iterative_above` unknowns: algebraic
+// multigrid (gamg; eigen_cg in a build without PETSc) instead of CHOLMOD, for the bodies' system
+// and for the condensed contact system, given the rigid-body modes (the layout). The 3D Hertz
+// example (Lagrange multipliers, condensed) and the 3D cantilever (elastic), with the
+// threshold lowered below their sizes: both report the iterative solver, complete, and give
+// the factorization's answer to 1e-6 (the Krylov solves stop at the forcing terms and rtol
+// 1e-8); the default threshold (200000) keeps these small models on CHOLMOD.
+TEST(LinearSolver, AutoTurnsToAlgebraicMultigridAboveItsThreshold) {
+  const std::string amg = petsc_available() ? "gamg" : "eigen_cg";
+  struct Case {
+    const char* example;
+    std::string direct, iterative;
+  };
+  for (const Case& c : {Case{"hertz_sphere_3d", "condensed+cholmod", "condensed+" + amg},
+                        Case{"cantilever_3d", "cholmod", amg}}) {
+    const test::HertzRun a = test::run_deck_text(example_deck(c.example, ""), std::string(c.example) + "_auto");
+    const test::HertzRun b =
+        test::run_deck_text(example_deck(c.example, "solver: {linear: {type: auto, iterative_above: 1000}}\n"),
+                            std::string(c.example) + "_auto_amg");
+    ASSERT_TRUE(a.summary.completed && b.summary.completed) << c.example << ": " << b.summary.failure;
+    EXPECT_EQ(a.summary.increments.back().linear_solver, c.direct) << c.example;
+    EXPECT_EQ(b.summary.increments.back().linear_solver, c.iterative) << c.example;
+    EXPECT_GT(max_krylov(b.summary), 0) << c.example;
+    EXPECT_LE(b.summary.total_iterations, a.summary.total_iterations + 2) << c.example;
+    expect_same_checks(a, b, 1e-6, std::string(c.example) + " auto above iterative_above");
+    std::printf("%s: %s %d Newton iterations, %s %d (Krylov per solve up to %d)\n", c.example, c.direct.c_str(),
+                a.summary.total_iterations, c.iterative.c_str(), b.summary.total_iterations, max_krylov(b.summary));
+  }
+}
+
 // GAMG's prolongator smoothing as solver_settings decides it: plain aggregation (0 steps) when
 // the Krylov solves get forcing terms (a model with contact, finite strain or material history,
 // forcing auto or adaptive), smoothed aggregation (1) when they solve to rtol (forcing fixed, or

@@ -84,11 +84,14 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   const std::string dir = outdir.empty() ? model.output.directory : outdir;
   // Several MPI ranks: each runs the same analysis; PETSc distributes the linear solves.
   const int ranks = launched_ranks();
-  if (ranks > 1 && !is_petsc_solver(model.linear_solver.type))
+  // `auto` picks one of those itself (Analysis::choose_algebra) in a build with PETSc.
+  if (ranks > 1 && !is_petsc_solver(model.linear_solver.type) &&
+      !(model.linear_solver.type == "auto" && petsc_available()))
     throw InputError(deck, "solver.linear",
                      fmt::format("this run has {} MPI ranks: the linear solver must be one that PETSc distributes "
-                                 "(gamg, hypre, mumps or petsc), not '{}'",
-                                 ranks, model.linear_solver.type));
+                                 "(gamg, hypre, mumps or petsc{}), not '{}'",
+                                 ranks, petsc_available() ? ", or auto" : "; this build has no PETSc",
+                                 model.linear_solver.type));
   ResultsWriter writer(model, dir, rank);
   Analysis analysis(model);
   log::debug("peak memory {:.0f} MiB with the analysis set up (DOF map, sparse pattern)", log::peak_memory_mib());

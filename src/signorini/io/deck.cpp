@@ -901,6 +901,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
     m.linear_solver.forcing = l.text(ls, "forcing");
     m.linear_solver.options = l.text(ls, "options");
     m.linear_solver.partition = l.text(ls, "partition");
+    m.linear_solver.iterative_above = static_cast<Index>(l.number(ls, "iterative_above"));
   } else if (n.has("linear")) {
     const Node c = n.child("linear");
     const ParamSpec* p = deck_spec(r, "linear").param("type");

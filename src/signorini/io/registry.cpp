@@ -180,8 +180,11 @@ void register_materials(Registry& r) {
 
 void register_linear_solvers(Registry& r) {
   r.add({"linear_solver", "auto",
-         "CHOLMOD for symmetric systems (eigen_cg for symmetric 3D systems above 200000 DOFs), UMFPACK otherwise; "
-         "UMFPACK when Cholesky or CG fails.",
+         "CHOLMOD for symmetric systems, and for symmetric 3D systems above 200000 unknowns (linear: "
+         "{iterative_above: ...}) gamg (eigen_cg in a build without PETSc); UMFPACK otherwise; MUMPS's LDL^T (or "
+         "UMFPACK) when Cholesky or the iterative solver fails. Under mpirun: gamg for such large symmetric 3D "
+         "systems (contact multipliers condensed: one-pass node-to-segment or node-to-node, frictionless), mumps "
+         "otherwise.",
          {}});
   r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite).", {}});
   r.add({"linear_solver", "umfpack", "SuiteSparse UMFPACK multifrontal LU (any nonsingular matrix).", {}});
@@ -396,7 +399,9 @@ void register_deck_sections(Registry& r) {
                                "motion of the increment's prediction", "auto", ParamKind::any),
           choice("update", "detection at the start of each increment, or at each Newton iteration",
                  {"increment", "iteration"}, "increment")}});
-  r.add({"deck", "linear", "The linear solver of the Newton iterations: {type, rtol, forcing, options, partition}, or just its type.",
+  r.add({"deck", "linear",
+         "The linear solver of the Newton iterations: {type, rtol, forcing, options, partition, iterative_above}, or "
+         "just its type.",
          {choice("type", "the solver (see 'describe auto', 'describe gamg' etc.)", solvers, "auto"),
           number("rtol", "gamg, hypre, petsc, eigen_cg: relative residual of the Krylov iterations (with forcing: "
                          "adaptive, the tightest asked)", "1e-8", 0, 1, true, true),
@@ -411,10 +416,21 @@ void register_deck_sections(Registry& r) {
           choice("partition",
                  "under mpirun, how the cells are shared out between the ranks: rcb (recursive coordinate bisection of "
                  "their centroids) or ptscotch (PT-Scotch's cut of the cells' graph, through PETSc)",
-                 {"rcb", "ptscotch"}, "rcb")}});
+                 {"rcb", "ptscotch"}, "rcb"),
+          [] {
+            ParamSpec p = number("iterative_above",
+                                 "auto: a symmetric 3D system with more unknowns than this goes to algebraic multigrid "
+                                 "(gamg; eigen_cg in a build without PETSc) instead of a factorization (CHOLMOD), and "
+                                 "under mpirun to gamg instead of mumps",
+                                 "200000", 1, 1e15);
+            p.kind = ParamKind::integer;
+            return p;
+          }()}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
-         {text("linear", "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, forcing, options, partition} (see 'describe "
-                         "linear')", "auto", ParamKind::any),
+         {text("linear",
+               "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, forcing, options, partition, "
+               "iterative_above} (see 'describe linear')",
+               "auto", ParamKind::any),
           number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
           number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),
           number("absolute_tolerance", "absolute residual, force units (0: off)", "0", 0),

@@ -241,8 +241,24 @@ Analysis::Analysis(Model& model)
 // and PETSc distributes the solve (replicated).
 void Analysis::choose_algebra() {
   const int ranks = parallel_ranks();
-  const std::string& linear = model_.linear_solver.type;
   if (ranks <= 1) return;
+  if (model_.linear_solver.type == "auto") {
+    // Under mpirun `auto` picks a solver PETSc distributes, as it does in one process: algebraic
+    // multigrid for a symmetric 3D system above iterative_above unknowns, a direct solver
+    // (MUMPS: LDL^T when symmetric, else LU; any saddle point of multipliers) otherwise. GAMG
+    // only where the distributed backend can condense the multipliers (one-pass
+    // node-to-segment or node-to-node, frictionless) and the bodies' tangent is symmetric.
+    bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
+    amg = amg && (symmetric_ || (has_multipliers_ && body_symmetric_));
+    for (const ContactPairSettings& cs : model_.contacts)
+      if (cs.method == "lagrange" && (cs.passes != 1 || cs.friction != "none" ||
+                                      (cs.discretization != "node_to_segment" && cs.discretization != "node_to_node")))
+        amg = false;
+    model_.linear_solver.type = amg ? "gamg" : "mumps";
+    log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
+              amg ? ", symmetric, 3D" : "");
+  }
+  const std::string& linear = model_.linear_solver.type;
   if (!is_petsc_solver(linear)) {
     algebra_ = fmt::format("replicated on {} ranks (linear solver {} runs on each: only gamg, hypre, mumps and petsc "
                            "are distributed)", ranks, linear);

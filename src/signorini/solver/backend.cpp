@@ -14,7 +14,8 @@ class SerialBackend final : public AlgebraBackend {
   SerialBackend(const LinearSolverSettings& linear, bool three_d)
       : linear_name_(linear.type),
         linear_(linear, three_d),
-        condensed_(is_amg_solver(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
+        condensed_(linear.type == "auto" || is_amg_solver(linear.type) ? linear : LinearSolverSettings("auto"),
+                   three_d) {}
   std::string name() const override { return "serial"; }
   Index owned_begin() const override { return 0; }
   Index owned_end() const override { return rows(); }
@@ -25,7 +26,7 @@ class SerialBackend final : public AlgebraBackend {
     saved_.clear();
     saved_.shrink_to_fit();
   }
-  // Kept only for an iterative solver (or `auto` on a 3D system it solves by CG), where the
+  // Kept only for an iterative solver (or `auto` on a 3D system it solves iteratively), where the
   // assembly is a large share of a Newton iteration. A factorization dwarfs the assembly, and
   // the copy would only add to the memory: on the medium tet10 mortar Hertz mesh (CHOLMOD,
   // 7.0M nonzeros) keeping it saves 1 s of 42 s and costs 56 MB, where the memory is the
@@ -52,7 +53,7 @@ class SerialBackend final : public AlgebraBackend {
   void apply_dirichlet(const std::vector<char>& constrained, Real scale) override {
     system_.apply_dirichlet(constrained, scale);
   }
-  bool wants_layout() const override { return linear_.wants_layout(); }
+  bool wants_layout() const override { return linear_.wants_layout(rows()); }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
     linear_.set_layout(layout);
     condensed_.set_layout(layout);

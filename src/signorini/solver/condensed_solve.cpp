@@ -159,7 +159,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   };
   // Reduced numbering and T. Algebraic multigrid keeps the pivots' places (their columns of
   // T empty, a decoupled diagonal added below), so that the unknowns stay in node blocks.
-  const bool keep_places = solver_.wants_layout();
+  const bool keep_places = solver_.wants_layout(n);
   std::vector<Index> ridx(n, -1);
   Index nr = 0;
   for (Index k = 0; k < n; ++k)

@@ -214,7 +214,7 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   // with UMFPACK against 3.2 GB with CHOLMOD). Else, and for unsymmetric ones, LU (UMFPACK).
   const std::string indefinite = symmetric && petsc_available() && launched_ranks() == 1 ? "mumps" : "umfpack";
   if (want == "auto")
-    want = !spd_wanted ? indefinite : (iterative(a.rows()) ? "eigen_cg" : "cholmod");
+    want = !spd_wanted ? indefinite : auto_spd_solver(a.rows());
   if (!solver_ || solver_->name() != want) {
     LinearSolverSettings s = choice_;
     s.type = want;
@@ -223,7 +223,7 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   }
   solver_->set_symmetric(symmetric);
   solver_->set_tolerance(tolerance_);
-  const bool spd = want == "cholmod" || want == "eigen_cg";
+  const bool spd = want == "cholmod" || want == "eigen_cg" || (choice_.type == "auto" && want == "gamg");
   if (solver_->factorize(a) && solver_->solve(b, x)) {
     if (spd) spd_backoff_ = 1;
     return;

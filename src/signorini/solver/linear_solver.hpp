@@ -1,9 +1,10 @@
 // Sparse solvers behind one interface: CHOLMOD (symmetric positive definite), UMFPACK
 // (general), Eigen's own LDLT and LU that always build, and Eigen's conjugate gradients with
-// an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (CG for
-// a symmetric 3D system above `iterative_threshold` DOFs, where a direct factor would not fit
-// in memory) and UMFPACK otherwise, and falls back to UMFPACK when Cholesky or CG fails (for
-// the next 1, 2, 4, ... solves, then Cholesky again). With PETSc (SIGNORINI_WITH_PETSC),
+// an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (for a
+// symmetric 3D system above `iterative_above` DOFs, where a direct factor would not fit in
+// memory, PETSc's GAMG, or CG with incomplete Cholesky in a build without PETSc) and UMFPACK
+// otherwise, and falls back to MUMPS's LDL^T or UMFPACK when Cholesky or the iterative solver
+// fails (for the next 1, 2, 4, ... solves, then again). With PETSc (SIGNORINI_WITH_PETSC),
 // `gamg`, `hypre`, `mumps` and `petsc` solve through a KSP (petsc_solver.hpp).
 #pragma once
 #include <memory>
@@ -30,6 +31,9 @@ struct LinearSolverSettings {
   std::string options;
   // Under mpirun: how the cells are shared out between the ranks (rcb, ptscotch).
   std::string partition = "rcb";
+  // `auto`: a symmetric 3D system with more unknowns than this goes to an iterative solver
+  // (GAMG with PETSc, else eigen_cg) instead of a factorization, whose fill grows like N^4/3.
+  Index iterative_above = 200000;
   LinearSolverSettings() = default;
   LinearSolverSettings(const char* t) : type(t) {}  // NOLINT: a bare name is a type
   LinearSolverSettings(std::string t) : type(std::move(t)) {}  // NOLINT
@@ -93,12 +97,16 @@ class AutoLinearSolver {
  public:
   explicit AutoLinearSolver(LinearSolverSettings choice, bool three_d = false)
       : choice_(std::move(choice)), three_d_(three_d) {}
-  static constexpr Index iterative_threshold = 200000;
   // Whether a symmetric positive definite system of `rows` unknowns goes to an iterative
   // solver (CG, algebraic multigrid, a PETSc KSP) rather than a factorization.
   bool iterative(Index rows) const {
-    if (choice_.type == "auto") return three_d_ && rows > iterative_threshold;
+    if (choice_.type == "auto") return three_d_ && rows > choice_.iterative_above;
     return choice_.type == "eigen_cg" || choice_.type == "petsc" || is_amg_solver(choice_.type);
+  }
+  // The solver `auto` gives such a system: CHOLMOD, or when iterative() GAMG (eigen_cg in a
+  // build without PETSc).
+  std::string auto_spd_solver(Index rows) const {
+    return !iterative(rows) ? "cholmod" : petsc_available() ? "gamg" : "eigen_cg";
   }
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
@@ -119,7 +127,10 @@ class AutoLinearSolver {
   }
   // The relative residual the next Krylov solves stop at (0: the configured rtol).
   void set_tolerance(Real rtol) { tolerance_ = rtol; }
-  bool wants_layout() const { return is_petsc_solver(choice_.type); }
+  // Whether the solver of a system of `rows` unknowns wants their layout (algebraic multigrid).
+  bool wants_layout(Index rows) const {
+    return is_petsc_solver(choice_.type) || (choice_.type == "auto" && auto_spd_solver(rows) == "gamg");
+  }
   const std::string& choice() const { return choice_.type; }
   // Forget the factorization and its symbolic analysis (after a change of sparse pattern).
   void reset() {
