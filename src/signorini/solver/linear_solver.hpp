@@ -146,6 +146,7 @@ class AutoLinearSolver {
   // solves; the skip doubles with each failure in a row (spd_backoff_) and resets on success.
   int spd_skip_ = 0, spd_backoff_ = 1;
   Real tolerance_ = 0;
+  bool announced_ = false;  // the first choice of gamg by `auto` is logged
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };
