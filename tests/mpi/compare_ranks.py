@@ -68,6 +68,11 @@ assert log.count("Solved") == 1, "rank 0 alone should print the summary:\n" + lo
 if linear_type == "auto":
     picked = "gamg" if iterative_above else "mumps"
     assert many["linear"]["type"] == picked, "auto on %d ranks: %s, not %s" % (ranks, many["linear"]["type"], picked)
+# Each increment that solved names its last solve's method and preconditioner (summary.json,
+# issue 15); one converged at its first residual has none.
+methods = {inc.get("linear_method", "") for inc in many["increments"] if inc["iterations"] > 0}
+expected_method = {"gamg": ", gamg (", "hypre": ", hypre (", "mumps": "(mumps)"}.get(many["linear"]["type"], "")
+assert all(m and expected_method in m for m in methods), "linear_method %s for %s" % (methods, many["linear"]["type"])
 if expected_algebra:
     assert many["algebra"].startswith(expected_algebra), many["algebra"]
     if expected_algebra == "partitioned":

@@ -207,6 +207,13 @@ TEST(LinearSolver, AutoTurnsToAlgebraicMultigridAboveItsThreshold) {
     ASSERT_TRUE(a.summary.completed && b.summary.completed) << c.example << ": " << b.summary.failure;
     EXPECT_EQ(a.summary.increments.back().linear_solver, c.direct) << c.example;
     EXPECT_EQ(b.summary.increments.back().linear_solver, c.iterative) << c.example;
+    // summary.json's linear_method: the method and preconditioner (with PETSc: GAMG given the
+    // six rigid-body modes of 3D).
+    EXPECT_NE(a.summary.increments.back().linear_method.find("supernodal Cholesky (CHOLMOD)"), std::string::npos)
+        << a.summary.increments.back().linear_method;
+    const std::string method = b.summary.increments.back().linear_method;
+    EXPECT_NE(method.find(petsc_available() ? "cg, gamg (" : "cg, incomplete Cholesky"), std::string::npos) << method;
+    if (petsc_available()) EXPECT_NE(method.find("6 near-nullspace vectors"), std::string::npos) << method;
     EXPECT_GT(max_krylov(b.summary), 0) << c.example;
     EXPECT_LE(b.summary.total_iterations, a.summary.total_iterations + 2) << c.example;
     expect_same_checks(a, b, 1e-6, std::string(c.example) + " auto above iterative_above");

@@ -532,6 +532,7 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
                      r.uzawa_updates, json_number(r.seconds), r.linear_solver);
     for (size_t k = 0; k < r.residuals.size(); ++k) j += (k ? ", " : "") + json_number(r.residuals[k]);
     j += "]";
+    if (!r.linear_method.empty()) j += fmt::format(", \"linear_method\": \"{}\"", json_escape(r.linear_method));
     if (std::any_of(r.krylov_iterations.begin(), r.krylov_iterations.end(), [](int k) { return k > 0; })) {
       j += ", \"krylov_iterations\": [";
       for (size_t k = 0; k < r.krylov_iterations.size(); ++k) j += (k ? ", " : "") + std::to_string(r.krylov_iterations[k]);

@@ -884,6 +884,7 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
     q.rtol = last_forcing_ = forcing_term(it, ns, rec);
     if (ptc_shift_ > 0) add_free_diagonal(ptc_shift_);
     rec.linear_solver = backend_->solve(q, R, du);
+    rec.linear_method = backend_->last_method();
     rec.krylov_iterations.push_back(backend_->last_iterations());
     // A prescribed DOF's row is diag du = diag lift: its step is known exactly, and an
     // iterative solve's round-off there would leave the prescribed value forever "pending".

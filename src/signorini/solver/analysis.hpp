@@ -40,6 +40,7 @@ struct IncrementRecord {
   std::vector<Real> energies;   // |du . R| per iteration
   double seconds = 0;
   std::string linear_solver;
+  std::string linear_method;           // its method and preconditioner in words (the last solve's)
   std::vector<int> krylov_iterations;  // per Newton iteration (iterative linear solvers)
   std::vector<ContactStats> contact;  // per contact interface
   int uzawa_updates = 0;              // augmented Lagrangian multiplier updates

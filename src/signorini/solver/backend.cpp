@@ -59,6 +59,7 @@ class SerialBackend final : public AlgebraBackend {
     condensed_.set_layout(layout);
   }
   int last_iterations() const override { return last_iterations_; }
+  std::string last_method() const override { return last_method_; }
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
     // Multiplier contact with the automatic solver or algebraic multigrid (which cannot take
     // a saddle-point system): the condensed system when its structure allows
@@ -73,6 +74,7 @@ class SerialBackend final : public AlgebraBackend {
     if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || is_amg_solver(linear_name_))) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
+        last_method_ = "condensed multipliers, " + condensed_.last_method();
         if (condensed_.refinements() > 0) log::debug("    condensed solve: {} refinement steps", condensed_.refinements());
         return "condensed+" + condensed_.last_used();
       }
@@ -88,12 +90,14 @@ class SerialBackend final : public AlgebraBackend {
     }
     linear_.solve(system_.matrix(), q.symmetric, r, du);
     last_iterations_ = linear_.last_iterations();
+    last_method_ = linear_.last_method();
     return linear_.last_used();
   }
 
  private:
   std::string linear_name_;
   int last_iterations_ = 0;
+  std::string last_method_;
   SparseSystem system_;
   std::vector<Real> saved_;  // save_values()
   AutoLinearSolver linear_;

@@ -58,6 +58,8 @@ class AlgebraBackend {
   virtual std::string solve(const NewtonSolveRequest& request, const VecX& r, VecX& du) = 0;
   // Krylov iterations of the last solve (0 for a direct solver).
   virtual int last_iterations() const { return 0; }
+  // The last solve's method and preconditioner in words (LinearSolver::method).
+  virtual std::string last_method() const { return ""; }
   // Algebraic multigrid wants to know where the unknowns sit (its near-nullspace).
   virtual bool wants_layout() const { return false; }
   virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}

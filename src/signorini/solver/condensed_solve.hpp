@@ -36,6 +36,10 @@ class CondensedContactSolver {
   // whole system. Throws SolverError when the reduced system is singular.
   bool solve(const SparseMatrix& J, const std::vector<char>& is_multiplier, bool symmetric, const VecX& r, VecX& dz);
   std::string last_used() const { return solver_.last_used(); }
+  // The reduced system's method, after GMRES when the last solve refined coupled rows.
+  std::string last_method() const {
+    return (refinements_ > 0 ? "gmres on the coupled rows over " : "") + solver_.last_method();
+  }
   std::string why_not() const { return why_not_; }
   // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
   int analyses() const { return analyses_; }

@@ -181,6 +181,16 @@ bool is_petsc_solver(const std::string& name) {
   return is_amg_solver(name) || name == "mumps" || name == "petsc";
 }
 
+std::string LinearSolver::method() const {
+  const std::string n = name();
+  if (n == "cholmod") return "supernodal Cholesky (CHOLMOD)";
+  if (n == "umfpack") return "multifrontal LU (UMFPACK)";
+  if (n == "eigen_ldlt") return "simplicial LDLT (Eigen)";
+  if (n == "eigen_lu") return "sparse LU (Eigen)";
+  if (n == "eigen_cg") return "cg, incomplete Cholesky (Eigen)";
+  return n;
+}
+
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings) {
   const std::string& name = settings.type;
   if (is_petsc_solver(name)) {

@@ -65,6 +65,9 @@ class LinearSolver {
   virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
   // Krylov iterations of the last solve (0 for a direct solver).
   virtual int iterations() const { return 0; }
+  // The method and preconditioner in words, for summary.json: "supernodal Cholesky (CHOLMOD)",
+  // "cg, gamg (plain aggregation, 6 near-nullspace vectors)".
+  virtual std::string method() const;
   // Why the last factorize or solve failed, when the solver knows.
   virtual std::string failure() const { return "failed"; }
   // Whether the last factorization failed for want of memory or of the library's integers.
@@ -120,6 +123,7 @@ class AutoLinearSolver {
   // Why the last solve failed, when the solver knows.
   std::string failure() const { return solver_ ? solver_->failure() : "no solver"; }
   int last_iterations() const { return solver_ ? solver_->iterations() : 0; }
+  std::string last_method() const { return solver_ ? solver_->method() : last_name_; }
   // The layout of the next systems' unknowns (for algebraic multigrid).
   void set_layout(std::shared_ptr<const UnknownLayout> layout) {
     layout_ = std::move(layout);

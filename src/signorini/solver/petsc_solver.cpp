@@ -86,6 +86,48 @@ Real configure_ksp(KSP ksp, const LinearSolverSettings& s, bool symmetric) {
   return rtol;
 }
 
+// The Krylov method and preconditioner `ksp` runs, in words (summary.json, issue 15): "cg,
+// gamg (plain aggregation, 6 near-nullspace vectors)", "preonly, cholesky (mumps)", "cg, hypre
+// (boomeramg)". GAMG's smoothing is the settings' unless raw options set it.
+std::string describe_ksp(KSP ksp, const LinearSolverSettings& s) {
+  if (!ksp) return s.type;
+  KSPType kt = nullptr;
+  KSPGetType(ksp, &kt);
+  PC pc = nullptr;
+  KSPGetPC(ksp, &pc);
+  PCType pt = nullptr;
+  if (pc) PCGetType(pc, &pt);
+  const std::string k = kt ? kt : "?", p = pt ? pt : "?";
+  std::string out = k + ", " + p;
+  if (p == PCGAMG) {
+    PetscInt smooths = s.amg_smoothing;
+    PetscBool set = PETSC_FALSE;
+    PetscOptionsGetInt(nullptr, nullptr, "-pc_gamg_agg_nsmooths", &smooths, &set);
+    PetscInt vectors = 0;
+    Mat a = nullptr;
+    KSPGetOperators(ksp, &a, nullptr);
+    MatNullSpace space = nullptr;
+    if (a) MatGetNearNullSpace(a, &space);
+    if (space) {
+      PetscBool constant = PETSC_FALSE;
+      const Vec* vecs = nullptr;
+      MatNullSpaceGetVecs(space, &constant, &vectors, &vecs);
+      vectors += constant ? 1 : 0;
+    }
+    out += fmt::format(" ({} aggregation, {})", smooths > 0 ? "smoothed" : "plain",
+                       vectors > 0 ? fmt::format("{} near-nullspace vectors", vectors) : "no near-nullspace");
+  } else if (p == PCLU || p == PCCHOLESKY) {
+    MatSolverType st = nullptr;
+    PCFactorGetMatSolverType(pc, &st);
+    if (st) out += fmt::format(" ({})", st);
+  } else if (p == PCHYPRE) {
+    const char* ht = nullptr;
+    PCHYPREGetType(pc, &ht);
+    if (ht) out += fmt::format(" ({})", ht);
+  }
+  return out;
+}
+
 // CG's breakdown on an indefinite system. A condensed contact system can be indefinite: the
 // contact's geometric terms -lambda w hess(g) (measured on the fine tet10 mortar mesh of
 // CalculiX's harness, at its fifth Newton iteration with forcing fixed; Cholesky fails there
@@ -207,6 +249,7 @@ class PetscKsp final : public LinearSolver {
   }
   bool wants_layout() const override { return is_amg_solver(s_.type); }
   int iterations() const override { return iterations_; }
+  std::string method() const override { return describe_ksp(ksp_, s_); }
   std::string failure() const override { return failure_; }
   void set_tolerance(Real rtol) override { tolerance_ = rtol; }
 
@@ -661,10 +704,14 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     nullspace_stale_ = true;
   }
   int last_iterations() const override { return iterations_; }
+  std::string last_method() const override {
+    return (condensed_last_ ? "condensed multipliers, " : "") + describe_ksp(ksp_, s_);
+  }
 
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
     iterations_ = 0;
     tolerance_ = q.rtol;
+    condensed_last_ = q.is_multiplier && is_amg_solver(s_.type);
     if (q.is_multiplier && is_amg_solver(s_.type)) {
       if (!q.condense_contact)
         throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
@@ -1320,6 +1367,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   LinearSolverSettings s_;
   std::shared_ptr<const UnknownLayout> layout_;
   int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
+  bool condensed_last_ = false;  // the last solve condensed the contact multipliers
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
   Real configured_rtol_ = 0;  // configure_ksp's
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
