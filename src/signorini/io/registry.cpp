@@ -197,7 +197,8 @@ void register_linear_solvers(Registry& r) {
   const std::string petsc = petsc_available() ? "" : " Not in this build (configured without PETSc).";
   r.add({"linear_solver", "gamg",
          "PETSc: conjugate gradients (GMRES when unsymmetric) with aggregation algebraic multigrid (smoothed; "
-         "plain under adaptive forcing, whose solves redo a cheaper setup at each Newton iteration), the "
+         "plain under adaptive forcing, whose solves redo a cheaper setup at each Newton iteration; connections below "
+         "0.01 of the diagonal left out of the aggregation graph), the "
          "rigid-body modes as near-nullspace, interpolation reused while the pattern holds. Contact multipliers are "
          "condensed first (or use penalty)." + petsc,
          {}});
@@ -407,7 +408,8 @@ void register_deck_sections(Registry& r) {
                          "adaptive, the tightest asked)", "1e-8", 0, 1, true, true),
           choice("forcing",
                  "Krylov solvers: adaptive asks each Newton iteration's solve for what that iteration can use "
-                 "(Eisenstat & Walker: 1e-2 at first, then 0.9 (|R_k| / |R_k-1|)^2, down to rtol); fixed asks rtol "
+                 "(Eisenstat & Walker: 1e-2 at first and while contact statuses change, then 0.9 (|R_k| / |R_k-1|)^2, down to "
+                 "rtol); fixed asks rtol "
                  "of every solve; auto: adaptive on nonlinear models (contact, finite strain, material history), "
                  "fixed on linear ones",
                  {"auto", "adaptive", "fixed"}, "auto"),

@@ -537,6 +537,11 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
       j += ", \"krylov_iterations\": [";
       for (size_t k = 0; k < r.krylov_iterations.size(); ++k) j += (k ? ", " : "") + std::to_string(r.krylov_iterations[k]);
       j += "]";
+      if (std::any_of(r.krylov_rtol.begin(), r.krylov_rtol.end(), [](Real t) { return t > 0; })) {
+        j += ", \"krylov_rtol\": [";
+        for (size_t k = 0; k < r.krylov_rtol.size(); ++k) j += (k ? ", " : "") + json_number(r.krylov_rtol[k]);
+        j += "]";
+      }
     }
     if (r.stabilization_ratio > 0) j += fmt::format(", \"stabilization_ratio\": {}", json_number(r.stabilization_ratio));
     if (r.pseudo_transient) j += ", \"pseudo_transient\": true";

@@ -42,6 +42,8 @@ struct IncrementRecord {
   std::string linear_solver;
   std::string linear_method;           // its method and preconditioner in words (the last solve's)
   std::vector<int> krylov_iterations;  // per Newton iteration (iterative linear solvers)
+  std::vector<Real> krylov_rtol;       // per Newton iteration: the forcing term asked (0: the configured rtol)
+  std::vector<int> status_changes;     // per Newton iteration: contact statuses its step changed
   std::vector<ContactStats> contact;  // per contact interface
   int uzawa_updates = 0;              // augmented Lagrangian multiplier updates
   // Stabilization (solver.stabilization): |f_v| at convergence, relative to the largest of
