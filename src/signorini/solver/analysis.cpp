@@ -242,6 +242,14 @@ Analysis::Analysis(Model& model)
 void Analysis::choose_algebra() {
   const int ranks = parallel_ranks();
   if (ranks <= 1) return;
+  // The first pair whose multipliers the distributed backend cannot condense for algebraic
+  // multigrid: coupled rows (mortar, segment-to-segment), two passes.
+  auto coupled_pair = [&]() -> const ContactPairSettings* {
+    if (!has_multipliers_) return nullptr;
+    for (const ContactPairSettings& cs : model_.contacts)
+      if (cs.passes != 1 || (cs.discretization != "node_to_segment" && cs.discretization != "node_to_node")) return &cs;
+    return nullptr;
+  };
   if (model_.linear_solver.type == "auto") {
     // Under mpirun `auto` picks a solver PETSc distributes, as it does in one process: algebraic
     // multigrid for a symmetric 3D system above iterative_above unknowns, a direct solver
@@ -249,11 +257,9 @@ void Analysis::choose_algebra() {
     // only where the distributed backend can condense the multipliers (one-pass
     // node-to-segment or node-to-node, frictionless) and the bodies' tangent is symmetric.
     bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
-    amg = amg && (symmetric_ || (has_multipliers_ && body_symmetric_));
+    amg = amg && (symmetric_ || (has_multipliers_ && body_symmetric_)) && !coupled_pair();
     for (const ContactPairSettings& cs : model_.contacts)
-      if (cs.method == "lagrange" && (cs.passes != 1 || cs.friction != "none" ||
-                                      (cs.discretization != "node_to_segment" && cs.discretization != "node_to_node")))
-        amg = false;
+      if (cs.method == "lagrange" && cs.friction != "none") amg = false;
     model_.linear_solver.type = amg ? "gamg" : "mumps";
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
               amg ? ", symmetric, 3D" : "");
@@ -264,15 +270,13 @@ void Analysis::choose_algebra() {
                            "are distributed)", ranks, linear);
     return;
   }
-  if (has_multipliers_ && is_amg_solver(linear))
-    for (const ContactPairSettings& cs : model_.contacts)
-      if (cs.passes != 1 || (cs.discretization != "node_to_segment" && cs.discretization != "node_to_node")) {
-        algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact "
-                               "multipliers of pair '{}' ({}, {} pass{}) condensed with their couplings, which takes "
-                               "the whole matrix; enforcement: penalty, or linear: mumps, assembles partitioned)",
-                               ranks, linear, cs.name, cs.discretization, cs.passes, cs.passes > 1 ? "es" : "");
-        return;
-      }
+  if (const ContactPairSettings* cs = is_amg_solver(linear) ? coupled_pair() : nullptr) {
+    algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact "
+                           "multipliers of pair '{}' ({}, {} pass{}) condensed with their couplings, which takes "
+                           "the whole matrix; enforcement: penalty, or linear: mumps, assembles partitioned)",
+                           ranks, linear, cs->name, cs->discretization, cs->passes, cs->passes > 1 ? "es" : "");
+    return;
+  }
 #ifdef SIGNORINI_HAVE_PETSC
   backend_ = make_petsc_backend(solver_settings(model_));
   backend_->set_coordinates(&model_.mesh.nodes);
@@ -872,9 +876,7 @@ Real Analysis::forcing_term(int it, const NewtonSettings& ns, const IncrementRec
   constexpr Real kForcingMax = 1e-2;
   const size_t n = rec.residuals.size();
   Real eta = kForcingMax;
-  bool statuses_changed = false;
-  for (const auto& c : contacts_)
-    statuses_changed = statuses_changed || c->iterate_status().newly_closed + c->iterate_status().newly_opened > 0;
+  const bool statuses_changed = !rec.status_changes.empty() && rec.status_changes.back() > 0;
   if (it > 1 && n >= 2 && rec.residuals[n - 2] > 0 && !statuses_changed) {
     const Real ratio = rec.residuals[n - 1] / rec.residuals[n - 2];
     eta = 0.9 * ratio * ratio;
