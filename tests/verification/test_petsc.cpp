@@ -222,6 +222,68 @@ TEST(LinearSolver, AutoTurnsToAlgebraicMultigridAboveItsThreshold) {
   }
 }
 
+// `auto` also turns to GAMG below iterative_above when Cholesky's factor would be large
+// (direct_factor_limit, entries; CHOLMOD's symbolic analysis of the first pattern): quadratic
+// tetrahedra fill a factor much faster than their unknowns grow (docs/performance.md). The
+// prediction is checked on patterns whose factor is known. The 3D Hertz example (condensed
+// multipliers) and the 3D cantilever with the limit below their factors report gamg and give
+// CHOLMOD's answer to 1e-6; a deck that names cholmod keeps it. In a build without PETSc the
+// limit does not apply (CG with incomplete Cholesky is no match for a factorization there).
+TEST(LinearSolver, AutoTurnsToAlgebraicMultigridWhenTheFactorWouldBeLarge) {
+  // Patterns whose smallest factor is known, whatever the ordering: a path (tridiagonal) keeps
+  // its 2n - 1 entries, so does a star (every unknown coupled to the first: eliminated last, it
+  // fills nothing; first, it would fill everything), a ring needs n - 3 fill entries (3n - 3),
+  // a dense matrix n (n + 1) / 2.
+  const int n = 60;
+  std::vector<Eigen::Triplet<Real>> path, star, ring, dense;
+  for (int i = 0; i < n; ++i) {
+    for (auto* t : {&path, &star, &ring}) t->emplace_back(i, i, 4.0 * n);
+    for (int j = 0; j < n; ++j) dense.emplace_back(i, j, i == j ? 2.0 * n : 1.0);
+    const int k = (i + 1) % n;
+    ring.emplace_back(i, k, -1.0);
+    ring.emplace_back(k, i, -1.0);
+    if (i > 0) {
+      path.emplace_back(i, i - 1, -1.0);
+      path.emplace_back(i - 1, i, -1.0);
+      star.emplace_back(i, 0, 1.0);
+      star.emplace_back(0, i, 1.0);
+    }
+  }
+  auto factor = [&](const std::vector<Eigen::Triplet<Real>>& t) {
+    SparseMatrix m(n, n);
+    m.setFromTriplets(t.begin(), t.end());
+    return cholesky_factor_entries(m);
+  };
+  EXPECT_EQ(factor(path), 2 * n - 1);
+  EXPECT_EQ(factor(star), 2 * n - 1);
+  EXPECT_EQ(factor(ring), 3 * n - 3);
+  EXPECT_EQ(factor(dense), n * (n + 1) / 2);
+
+  const bool petsc = petsc_available();
+  for (const auto& [example, direct, large] :
+       {std::tuple<std::string, std::string, std::string>{"hertz_sphere_3d", "condensed+cholmod", "condensed+gamg"},
+        {"cantilever_3d", "cholmod", "gamg"}}) {
+    const test::HertzRun a = test::run_deck_text(example_deck(example, ""), example + "_factor_small");
+    const test::HertzRun b = test::run_deck_text(
+        example_deck(example, "solver: {linear: {type: auto, direct_factor_limit: 1000}}\n"), example + "_factor_large");
+    ASSERT_TRUE(a.summary.completed && b.summary.completed) << example << ": " << b.summary.failure;
+    EXPECT_EQ(a.summary.increments.back().linear_solver, direct) << example;
+    EXPECT_EQ(b.summary.increments.back().linear_solver, petsc ? large : direct) << example;
+    if (petsc) {
+      const std::string method = b.summary.increments.back().linear_method;
+      EXPECT_NE(method.find("6 near-nullspace vectors"), std::string::npos) << method;
+      EXPECT_GT(max_krylov(b.summary), 0) << example;
+    }
+    expect_same_checks(a, b, 1e-6, example + " auto above direct_factor_limit");
+  }
+  // The limit is `auto`'s: a deck naming cholmod keeps it.
+  const test::HertzRun c = test::run_deck_text(
+      example_deck("cantilever_3d", "solver: {linear: {type: cholmod, direct_factor_limit: 1000}}\n"),
+      "cantilever_3d_named_cholmod");
+  ASSERT_TRUE(c.summary.completed) << c.summary.failure;
+  EXPECT_EQ(c.summary.increments.back().linear_solver, "cholmod");
+}
+
 // While the contact statuses change, the forcing term stays at 1e-2 (Analysis::forcing_term):
 // the residual's fall over a step that opened or closed nodes measures the active-set guess, not
 // the local rate of Newton's method. The 3D Hertz example (multipliers condensed, gamg; penalty

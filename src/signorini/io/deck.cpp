@@ -902,6 +902,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
     m.linear_solver.options = l.text(ls, "options");
     m.linear_solver.partition = l.text(ls, "partition");
     m.linear_solver.iterative_above = static_cast<Index>(l.number(ls, "iterative_above"));
+    m.linear_solver.direct_factor_limit = l.number(ls, "direct_factor_limit");
   } else if (n.has("linear")) {
     const Node c = n.child("linear");
     const ParamSpec* p = deck_spec(r, "linear").param("type");

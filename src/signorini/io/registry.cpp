@@ -181,7 +181,8 @@ void register_materials(Registry& r) {
 void register_linear_solvers(Registry& r) {
   r.add({"linear_solver", "auto",
          "CHOLMOD for symmetric systems, and for symmetric 3D systems above 200000 unknowns (linear: "
-         "{iterative_above: ...}) gamg (eigen_cg in a build without PETSc); UMFPACK otherwise; MUMPS's LDL^T (or "
+         "{iterative_above: ...}) gamg (eigen_cg in a build without PETSc), or whose Cholesky factor would hold more "
+         "than 5e7 entries (linear: {direct_factor_limit: ...}; with PETSc) gamg; UMFPACK otherwise; MUMPS's LDL^T (or "
          "UMFPACK) when Cholesky or the iterative solver fails. Under mpirun: gamg for such large symmetric 3D "
          "systems (contact multipliers condensed: one-pass node-to-segment or node-to-node, frictionless), mumps "
          "otherwise.",
@@ -401,7 +402,8 @@ void register_deck_sections(Registry& r) {
           choice("update", "detection at the start of each increment, or at each Newton iteration",
                  {"increment", "iteration"}, "increment")}});
   r.add({"deck", "linear",
-         "The linear solver of the Newton iterations: {type, rtol, forcing, options, partition, iterative_above}, or "
+         "The linear solver of the Newton iterations: {type, rtol, forcing, options, partition, iterative_above, "
+         "direct_factor_limit}, or "
          "just its type.",
          {choice("type", "the solver (see 'describe auto', 'describe gamg' etc.)", solvers, "auto"),
           number("rtol", "gamg, hypre, petsc, eigen_cg: relative residual of the Krylov iterations (with forcing: "
@@ -427,11 +429,16 @@ void register_deck_sections(Registry& r) {
                                  "200000", 1, 1e15);
             p.kind = ParamKind::integer;
             return p;
-          }()}});
+          }(),
+          number("direct_factor_limit",
+                 "auto, in a build with PETSc: a symmetric 3D system at or below iterative_above whose Cholesky factor "
+                 "would hold more entries than this (CHOLMOD's symbolic analysis of the first pattern; 8 bytes each) "
+                 "goes to gamg too (0: no limit)",
+                 "5e7", 0, 1e18)}});
   r.add({"deck", "solver", "Newton-Raphson and linear solver settings.",
          {text("linear",
                "linear solver: a name (see 'describe cholmod' etc.) or {type, rtol, forcing, options, partition, "
-               "iterative_above} (see 'describe linear')",
+               "iterative_above, direct_factor_limit} (see 'describe linear')",
                "auto", ParamKind::any),
           number("max_iterations", "Newton iterations per increment before cutting back", "25", 1, 1000),
           number("residual_tolerance", "relative residual |R| / max(|f_int|, |f_ext|)", "1e-8", 0, 1, true),

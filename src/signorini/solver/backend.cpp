@@ -23,6 +23,13 @@ class SerialBackend final : public AlgebraBackend {
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
     system_.build_pattern(dofs, cells, couplings, total);
     linear_.reset();  // a new pattern needs a new symbolic analysis
+    if (!assessed_ && linear_name_ == "auto") {
+      // Once per analysis, on the first pattern: a factor too large for `auto` sends the bodies'
+      // and the condensed contact systems to GAMG (AutoLinearSolver::assess_factor).
+      assessed_ = true;
+      linear_.assess_factor(system_.matrix());
+      condensed_.set_factor_too_large(linear_.factor_too_large());
+    }
     saved_.clear();
     saved_.shrink_to_fit();
   }
@@ -103,6 +110,7 @@ class SerialBackend final : public AlgebraBackend {
   AutoLinearSolver linear_;
   CondensedContactSolver condensed_;
   bool condense_reported_ = false;
+  bool assessed_ = false;  // build_pattern: the factor's size assessed
 };
 
 }  // namespace

@@ -27,6 +27,8 @@ class CondensedContactSolver {
     layout_ = std::move(layout);
     pattern_rows_ = -1;
   }
+  // `auto`'s decision that a Cholesky factor of this model is too large (assess_factor).
+  void set_factor_too_large(bool v) { solver_.set_factor_too_large(v); }
   // Krylov iterations of the last solve (with coupled rows: of all its inner solves).
   int last_iterations() const { return iterations_; }
   // J dz = r with `is_multiplier` flagging the multiplier unknowns; `symmetric`: whether J

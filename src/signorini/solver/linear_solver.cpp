@@ -177,6 +177,34 @@ int max_over_ranks(int value) {
 #endif
 }
 
+double cholesky_factor_entries(const SparseMatrix& a) {
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol;
+  chol.cholmod().print = 0;
+  chol.analyzePattern(a);
+  return chol.cholmod().lnz;
+}
+
+double AutoLinearSolver::assess_factor(const SparseMatrix& pattern) {
+  if (choice_.type != "auto" || !three_d_ || !petsc_available() || factor_too_large_ ||
+      choice_.direct_factor_limit <= 0 || iterative(pattern.rows()))
+    return 0;
+  // No factor of n unknowns holds more than n (n + 1) / 2 entries: small systems need no analysis.
+  const double n = static_cast<double>(pattern.rows());
+  if (n * (n + 1) / 2 <= choice_.direct_factor_limit) return 0;
+  const double entries = cholesky_factor_entries(pattern);
+  if (entries > choice_.direct_factor_limit) {
+    factor_too_large_ = true;
+    announced_ = true;
+    log::info("    linear solver auto: Cholesky's factor of {} unknowns would hold {:.3g} entries ({:.2g} GB; "
+              "direct_factor_limit {:.3g}): gamg, on one core in one process (mpirun -np N shares it out)",
+              pattern.rows(), entries, entries * 8e-9, choice_.direct_factor_limit);
+  } else {
+    log::debug("    linear solver auto: Cholesky's factor of {} unknowns would hold {:.3g} entries: cholmod",
+               pattern.rows(), entries);
+  }
+  return entries;
+}
+
 bool is_petsc_solver(const std::string& name) {
   return is_amg_solver(name) || name == "mumps" || name == "petsc";
 }

@@ -34,6 +34,12 @@ struct LinearSolverSettings {
   // `auto`: a symmetric 3D system with more unknowns than this goes to an iterative solver
   // (GAMG with PETSc, else eigen_cg) instead of a factorization, whose fill grows like N^4/3.
   Index iterative_above = 200000;
+  // `auto`, in a build with PETSc: a symmetric 3D system at or below iterative_above whose
+  // Cholesky factor would hold more entries than this (CHOLMOD's symbolic analysis of the first
+  // pattern) goes to GAMG too. Quadratic elements fill a factor faster than their unknowns
+  // grow: CalculiX's fine tet10 Hertz mesh, 118k unknowns, 1.25e8 entries (3.0 GB of peak
+  // memory against GAMG's 1.4 GB, docs/performance.md). 0: no limit.
+  Real direct_factor_limit = 5e7;
   LinearSolverSettings() = default;
   LinearSolverSettings(const char* t) : type(t) {}  // NOLINT: a bare name is a type
   LinearSolverSettings(std::string t) : type(std::move(t)) {}  // NOLINT
@@ -83,6 +89,10 @@ bool is_petsc_solver(const std::string& name);
 inline bool is_amg_solver(const std::string& name) { return name == "gamg" || name == "hypre"; }
 // Whether this build has PETSc (SIGNORINI_WITH_PETSC).
 bool petsc_available();
+// The entries of the Cholesky factor of a symmetric matrix's pattern (its lower triangle), from
+// CHOLMOD's symbolic analysis (the ordering CHOLMOD would choose: AMD, or METIS when AMD fills
+// much); no numerical factorization.
+double cholesky_factor_entries(const SparseMatrix& a);
 // The number of processes mpirun (OpenMPI or MPICH) launched this one among (1 otherwise),
 // from the environment; and the MPI ranks the linear solve runs on (1 without PETSc).
 int launched_ranks();
@@ -103,7 +113,7 @@ class AutoLinearSolver {
   // Whether a symmetric positive definite system of `rows` unknowns goes to an iterative
   // solver (CG, algebraic multigrid, a PETSc KSP) rather than a factorization.
   bool iterative(Index rows) const {
-    if (choice_.type == "auto") return three_d_ && rows > choice_.iterative_above;
+    if (choice_.type == "auto") return three_d_ && (rows > choice_.iterative_above || factor_too_large_);
     return choice_.type == "eigen_cg" || choice_.type == "petsc" || is_amg_solver(choice_.type);
   }
   // The solver `auto` gives such a system: CHOLMOD, or when iterative() GAMG (eigen_cg in a
@@ -111,6 +121,16 @@ class AutoLinearSolver {
   std::string auto_spd_solver(Index rows) const {
     return !iterative(rows) ? "cholmod" : petsc_available() ? "gamg" : "eigen_cg";
   }
+  // `auto` in a build with PETSc, for a symmetric 3D system it would factorize: predicts the
+  // Cholesky factor of this pattern and, above direct_factor_limit entries, solves this
+  // analysis's systems with GAMG (logged). Returns the prediction (0: not made).
+  double assess_factor(const SparseMatrix& pattern);
+  // The same decision, made by another solver of the same model (the condensed contact system's).
+  void set_factor_too_large(bool v) {
+    factor_too_large_ = v;
+    announced_ = announced_ || v;  // the other solver logged it
+  }
+  bool factor_too_large() const { return factor_too_large_; }
   // Factorizes and solves; throws SolverError when no solver succeeds.
   void solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x);
   // Solves again with the last factorization (false if there is none or the solve fails).
@@ -151,6 +171,7 @@ class AutoLinearSolver {
   int spd_skip_ = 0, spd_backoff_ = 1;
   Real tolerance_ = 0;
   bool announced_ = false;  // the first choice of gamg by `auto` is logged
+  bool factor_too_large_ = false;  // assess_factor()
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };
