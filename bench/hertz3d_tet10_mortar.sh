@@ -9,7 +9,9 @@
 #   the fine one is there too, hertz3d_fine_c3d10.inp; the medium one comes from the harness's
 #   scripts/mesh3d.py, which needs python3-gmsh).
 # DISCRETIZATION=segment_to_segment (or another) runs that instead of mortar; LINEAR=gamg (or
-# another solver.linear type) solves the condensed system with it (default: auto, CHOLMOD).
+# another solver.linear type) solves the condensed system with it (default: auto, which takes
+# CHOLMOD, or GAMG where the Cholesky factor would hold more than 5e7 entries, as on the fine
+# mesh); FACTOR_LIMIT=0 keeps auto on CHOLMOD (solver.linear.direct_factor_limit).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -40,7 +42,7 @@ steps:
       - {set: NBOT, uz: 0}
       - {set: NTOP, uz: -0.031}
 output: {vtu: none}
-solver: {linear: {type: ${LINEAR:-auto}}}
+solver: {linear: {type: ${LINEAR:-auto}, direct_factor_limit: ${FACTOR_LIMIT:-5e7}}}
 DECK
   "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"

@@ -257,9 +257,7 @@ void Analysis::choose_algebra() {
     // only where the distributed backend can condense the multipliers (one-pass
     // node-to-segment or node-to-node, frictionless) and the bodies' tangent is symmetric.
     bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
-    amg = amg && (symmetric_ || (has_multipliers_ && body_symmetric_)) && !coupled_pair();
-    for (const ContactPairSettings& cs : model_.contacts)
-      if (cs.method == "lagrange" && cs.friction != "none") amg = false;
+    amg = amg && symmetric_solves() && !coupled_pair();
     model_.linear_solver.type = amg ? "gamg" : "mumps";
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
               amg ? ", symmetric, 3D" : "");
@@ -284,6 +282,13 @@ void Analysis::choose_algebra() {
                          "cells shared out by {})",
                          ranks, model_.linear_solver.partition == "ptscotch" ? "PT-Scotch" : "coordinate bisection");
 #endif
+}
+
+bool Analysis::symmetric_solves() const {
+  if (!symmetric_ && !(has_multipliers_ && body_symmetric_)) return false;
+  for (const ContactPairSettings& cs : model_.contacts)
+    if (cs.method == "lagrange" && cs.friction != "none") return false;
+  return true;
 }
 
 std::vector<Vec3> Analysis::positions(const VecX& u) const {
@@ -354,6 +359,10 @@ void Analysis::rebuild_pattern() {
     }
     log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
                backend_->owned_begin(), backend_->owned_end());
+  }
+  if (!factor_assessed_) {  // once, on the first pattern
+    factor_assessed_ = true;
+    if (symmetric_solves()) backend_->assess_factor();
   }
   if (backend_->wants_layout()) {
     // Where each unknown sits (algebraic multigrid's rigid-body modes).

@@ -182,6 +182,9 @@ class Analysis {
   void report_contact_pressures();
   // Rebuilds the sparse pattern from the cells and the contact couplings.
   void choose_algebra();
+  // Whether the Newton systems are ones a Cholesky factorization (or CG) takes: symmetric, or
+  // symmetric bodies with contact multipliers the condensation removes (no Lagrange friction).
+  bool symmetric_solves() const;
   void rebuild_pattern();
   void begin_step(int s);
   // One increment, to the step fraction lambda from the last converged state (size dl), in
@@ -248,6 +251,7 @@ class Analysis {
   bool has_multipliers_ = false;
   bool symmetric_ = true;
   bool body_symmetric_ = true;        // symmetric apart from contact multipliers
+  bool factor_assessed_ = false;      // rebuild_pattern: AlgebraBackend::assess_factor called
   // Stabilization: the stiffness scale D (set at the first tangent), the current increment
   // dl, and |f_v| / F at the last evaluation.
   Real stab_scale_ = 0, stab_dl_ = 0, stab_ratio_ = 0;

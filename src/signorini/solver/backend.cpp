@@ -23,13 +23,6 @@ class SerialBackend final : public AlgebraBackend {
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
     system_.build_pattern(dofs, cells, couplings, total);
     linear_.reset();  // a new pattern needs a new symbolic analysis
-    if (!assessed_ && linear_name_ == "auto") {
-      // Once per analysis, on the first pattern: a factor too large for `auto` sends the bodies'
-      // and the condensed contact systems to GAMG (AutoLinearSolver::assess_factor).
-      assessed_ = true;
-      linear_.assess_factor(system_.matrix());
-      condensed_.set_factor_too_large(linear_.factor_too_large());
-    }
     saved_.clear();
     saved_.shrink_to_fit();
   }
@@ -59,6 +52,12 @@ class SerialBackend final : public AlgebraBackend {
   Real mean_abs_diagonal() const override { return system_.mean_abs_diagonal(); }
   void apply_dirichlet(const std::vector<char>& constrained, Real scale) override {
     system_.apply_dirichlet(constrained, scale);
+  }
+  // A factor too large for `auto` sends the bodies' and the condensed contact systems to GAMG.
+  void assess_factor() override {
+    if (linear_name_ != "auto") return;
+    linear_.assess_factor(system_.matrix());
+    condensed_.set_factor_too_large(linear_.factor_too_large());
   }
   bool wants_layout() const override { return linear_.wants_layout(rows()); }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
@@ -110,7 +109,6 @@ class SerialBackend final : public AlgebraBackend {
   AutoLinearSolver linear_;
   CondensedContactSolver condensed_;
   bool condense_reported_ = false;
-  bool assessed_ = false;  // build_pattern: the factor's size assessed
 };
 
 }  // namespace

@@ -60,6 +60,11 @@ class AlgebraBackend {
   virtual int last_iterations() const { return 0; }
   // The last solve's method and preconditioner in words (LinearSolver::method).
   virtual std::string last_method() const { return ""; }
+  // `auto` in one process: the Analysis calls this once, after the first pattern, when its
+  // systems are ones Cholesky would take (symmetric, or multipliers the condensation removes
+  // from a symmetric bodies' tangent); a factor above direct_factor_limit sends them to GAMG
+  // (AutoLinearSolver::assess_factor).
+  virtual void assess_factor() {}
   // Algebraic multigrid wants to know where the unknowns sit (its near-nullspace).
   virtual bool wants_layout() const { return false; }
   virtual void set_layout(std::shared_ptr<const UnknownLayout>) {}
