@@ -118,7 +118,8 @@ TEST(CalculixDeckLong, Hertz3dTet10Mortar) { hertz_tet10_mortar("hertz3d_coarse_
 // (measured 5), P within 0.3 % of CalculiX's on this mesh (the harness's results/sbs.md,
 // h3d_fine_s2s: 2320.6 N; measured +0.10 %), the peak nodal pressure within 0.3 % of Hertz's p0
 // (the issue's target; measured -0.19 %, CalculiX -0.23 %), none negative. About 150 s and
-// 3.3 GB on the 2-core machine.
+// 3.3 GB on the 2-core machine with CHOLMOD; since session 41 `auto` takes GAMG here (the factor
+// would hold 1.25e8 entries, above direct_factor_limit): 7 iterations, 1.5 GB, 1.6x the time.
 TEST(CalculixDeckLong, Hertz3dTet10MortarFine) {
   const signorini::test::Result r = hertz_tet10_mortar("hertz3d_fine_c3d10.inp", 2320.6, 3e-3);
   ASSERT_TRUE(r.completed);
