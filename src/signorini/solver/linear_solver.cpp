@@ -184,13 +184,13 @@ double cholesky_factor_entries(const SparseMatrix& a) {
   return chol.cholmod().lnz;
 }
 
-double AutoLinearSolver::assess_factor(const SparseMatrix& pattern) {
-  if (choice_.type != "auto" || !three_d_ || !petsc_available() || factor_too_large_ ||
-      choice_.direct_factor_limit <= 0 || iterative(pattern.rows()))
-    return 0;
+void AutoLinearSolver::assess_factor(const SparseMatrix& pattern) {
+  if (choice_.type != "auto" || !three_d_ || !petsc_available() || choice_.direct_factor_limit <= 0 ||
+      iterative(pattern.rows()))
+    return;
   // No factor of n unknowns holds more than n (n + 1) / 2 entries: small systems need no analysis.
   const double n = static_cast<double>(pattern.rows());
-  if (n * (n + 1) / 2 <= choice_.direct_factor_limit) return 0;
+  if (n * (n + 1) / 2 <= choice_.direct_factor_limit) return;
   const double entries = cholesky_factor_entries(pattern);
   if (entries > choice_.direct_factor_limit) {
     factor_too_large_ = true;
@@ -202,7 +202,6 @@ double AutoLinearSolver::assess_factor(const SparseMatrix& pattern) {
     log::debug("    linear solver auto: Cholesky's factor of {} unknowns would hold {:.3g} entries: cholmod",
                pattern.rows(), entries);
   }
-  return entries;
 }
 
 bool is_petsc_solver(const std::string& name) {

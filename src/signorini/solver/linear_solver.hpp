@@ -124,8 +124,8 @@ class AutoLinearSolver {
   }
   // `auto` in a build with PETSc, for a symmetric 3D system it would factorize: predicts the
   // Cholesky factor of this pattern and, above direct_factor_limit entries, solves this
-  // analysis's systems with GAMG (logged). Returns the prediction (0: not made).
-  double assess_factor(const SparseMatrix& pattern);
+  // analysis's systems with GAMG (logged).
+  void assess_factor(const SparseMatrix& pattern);
   // The same decision, made by another solver of the same model (the condensed contact system's).
   void set_factor_too_large(bool v) {
     factor_too_large_ = v;
