@@ -166,9 +166,15 @@ void check_combination(const ContactCombination& c, int theta = 1) {
   const Real friction0 = cs.friction_parameter;
   const std::vector<Real> bound_scale = {1.0, 0.5, 2.0, 0.3, 3.0, 0.1, 10.0, 0.03, 30.0, 100.0, 200.0, 150.0, 300.0, 500.0, 700.0, 1000.0};
   const size_t attempts = c.method == "nitsche" && c.friction != "none" ? bound_scale.size() : tangential.size();
+  // Nitsche with friction: a state where one of the many integration points sits on its stick/slip
+  // boundary within the differences' step is a kink (the one-sided differences differ, and the
+  // Newton matrix is one of them): the attempt is repeated with the bound 1 % larger, at most
+  // three times (the quad8 slave on tri3 and tri6 masters with mortar's cells: a point 2e-6 of
+  // the bound from it).
+  int nudges = 0;
   for (size_t attempt = 0; attempt < attempts; ++attempt) {
     cs.tangential_penalty = tangential[std::min(attempt, tangential.size() - 1)];
-    if (c.method == "nitsche") cs.friction_parameter = friction0 * bound_scale[attempt];
+    if (c.method == "nitsche") cs.friction_parameter = friction0 * bound_scale[attempt] * std::pow(1.01, nudges);
     std::vector<std::unique_ptr<ContactInterface>> pairs;
     pairs.push_back(std::make_unique<ContactInterface>(cs, mesh, as, 100.0, false));
     if (c.passes == 2) pairs.push_back(std::make_unique<ContactInterface>(cs, mesh, as, 100.0, true));
@@ -271,6 +277,7 @@ void check_combination(const ContactCombination& c, int theta = 1) {
     }
     const Real h = 1e-7;
     Real err = 0;
+    bool kink = false;  // the one-sided differences differ (directional differences only)
     const Real maxk = K.k.cwiseAbs().maxCoeff();
     if (!std::getenv("SIGNORINI_GRID_COLUMNS")) {
       // Central differences along 6 pseudo-random directions v over the involved unknowns
@@ -280,11 +287,15 @@ void check_combination(const ContactCombination& c, int theta = 1) {
       // row of the 3D table, docs/contact.md). SIGNORINI_GRID_COLUMNS=1: column by column (the
       // long ctests).
       std::mt19937 rng(12345);
+      const VecX r0 = residual(zc, nullptr);
       for (int k = 0; k < 6; ++k) {
         VecX v = VecX::Zero(nz);
         for (Index j : involved) v(j) = 2.0 * (static_cast<Real>(rng()) / 4294967295.0) - 1.0;
-        const VecX d = -(residual(zc + h * v, nullptr) - residual(zc - h * v, nullptr)) / (2 * h);
-        err = std::max(err, (d - K.k * v).cwiseAbs().maxCoeff());
+        const VecX rp = residual(zc + h * v, nullptr), rm = residual(zc - h * v, nullptr);
+        const VecX d = -(rp - rm) / (2 * h);
+        const Real e = (d - K.k * v).cwiseAbs().maxCoeff();
+        err = std::max(err, e);
+        if (e >= 1e-6 * maxk && ((rp - r0) + (rm - r0)).cwiseAbs().maxCoeff() / h > 1e-4 * maxk) kink = true;
       }
     } else {
       for (Index j : involved) {
@@ -304,6 +315,12 @@ void check_combination(const ContactCombination& c, int theta = 1) {
     std::printf("%s%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
                 c.text().c_str(), c.method == "nitsche" ? (" theta " + std::to_string(theta)).c_str() : "", (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
                 maxk);
+    if (err >= 1e-6 * maxk && kink && c.method == "nitsche" && c.friction != "none" && nudges < 3) {
+      std::printf("  a kink at this state: the bound nudged by 1 %%\n");
+      ++nudges;
+      --attempt;
+      continue;
+    }
     EXPECT_LT(err, 1e-6 * maxk) << c.text();
     break;
   }
@@ -377,7 +394,7 @@ TEST(TangentGrid, Every3DMortarCombinationMatchesCentralDifferences) {
   auto linear = [](ElementType t) { return t == ElementType::tri3 || t == ElementType::quad4; };
   int rows = 0;
   for (const ContactCombination& c : supported_contact_combinations())
-    if (c.dimension == Dimension::three_d && c.discretization == "mortar" && selected(c)) {
+    if (c.dimension == Dimension::three_d && c.discretization == "mortar" && c.method != "nitsche" && selected(c)) {
       if (!linear(c.slave_facet)) {
         const bool tet10 = c.slave_facet == ElementType::tri6 && c.master_facet == ElementType::tri6 &&
                            c.method == "lagrange";
@@ -393,10 +410,10 @@ TEST(TangentGrid, Every3DMortarCombinationMatchesCentralDifferences) {
   }
 }
 
-// Nitsche's 3D combinations on their own (its residual reads the cells' stress), every row:
-// 25 frictionless, 25 Coulomb and 25 Tresca, in about 9 s with the directional central
-// differences (the ctest long.TangentGrid.Every3DNitscheCombinationColumnByColumn, label long:
-// column by column, 207 s).
+// Nitsche's 3D combinations on their own (its residual reads the cells' stress), every row: on
+// segment_to_segment's points and on mortar's cells, each 25 frictionless, 25 Coulomb and 25
+// Tresca (the ctest long.TangentGrid.Every3DNitscheCombinationColumnByColumn, label long:
+// column by column).
 TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
   OneThread one;
   int rows = 0;
@@ -407,7 +424,7 @@ TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
     }
   std::printf("%d 3D Nitsche rows checked\n", rows);
   if (!std::getenv("SIGNORINI_GRID_FILTER")) {
-    EXPECT_EQ(rows, 75) << "25 frictionless, 25 Coulomb and 25 Tresca rows";
+    EXPECT_EQ(rows, 150) << "segment_to_segment and mortar, each 25 frictionless, 25 Coulomb and 25 Tresca rows";
   }
 }
 
@@ -509,6 +526,11 @@ TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   EXPECT_TRUE(check_contact_combination(nitsche).message.empty()) << "nitsche with friction, tri6 on tri6";
   nitsche.master_facet = ElementType::tri3;
   EXPECT_TRUE(check_contact_combination(nitsche).message.empty()) << "nitsche with friction, tri6 on tri3";
+  nitsche.discretization = "mortar";
+  EXPECT_TRUE(check_contact_combination(nitsche).message.empty()) << "nitsche on mortar integration, tri6 on tri3";
+  nitsche.self = true;
+  nitsche.slave_facet = nitsche.master_facet = ElementType::tri3;
+  EXPECT_EQ(check_contact_combination(nitsche).key, "enforcement.method") << "nitsche with self-contact";
   ContactCombination smooth;
   smooth.smoothing = "hermite";
   smooth.master_facet = ElementType::line3;

@@ -43,11 +43,15 @@ const std::vector<Rule>& rules() {
          return fmt::format("a {} analysis needs {} facets on its contact surfaces", dimension_name(c.dimension),
                             is_2d(c.dimension) ? "line" : "triangle or quadrilateral");
        }},
-      {"nitsche other than segment_to_segment",
-       [](const ContactCombination& c) { return c.method == "nitsche" && c.discretization != "segment_to_segment"; },
+      {"nitsche other than segment_to_segment or mortar, or with self-contact",
+       [](const ContactCombination& c) {
+         return c.method == "nitsche" &&
+                ((c.discretization != "segment_to_segment" && c.discretization != "mortar") || c.self);
+       },
        "enforcement.method",
        [](const ContactCombination& c) {
-         return "nitsche works on integration points: it needs discretization: segment_to_segment (not " +
+         if (c.self) return std::string("nitsche with self-contact is not available (use lagrange or penalty)");
+         return "nitsche works on integration points: it needs discretization: segment_to_segment or mortar (not " +
                 c.discretization + ")";
        }},
       {"tri6 or quad8 slave facets other than segment_to_segment or 3D mortar (two passes: on either surface)",

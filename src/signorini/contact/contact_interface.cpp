@@ -20,7 +20,7 @@ ContactInterface::ContactInterface(const ContactPairSettings& s, const Mesh& mes
   check_contact_pair(s_, mesh, as.dimension);  // the compatibility table (the deck reader checked it with the place)
   if (second_pass) std::swap(s_.master, s_.slave);
   label_ = s_.name + (second_pass ? " (pass 2)" : "");
-  slave_ = make_slave_surface(mesh, s_.slave, as, slave_basis(s_.discretization, s_.rigid, dim_ == 3));
+  slave_ = make_slave_surface(mesh, s_.slave, as, slave_basis(s_.discretization, s_.rigid, dim_ == 3, s_.method));
   if (second_pass) {
     // A node that coincides with a node of the other surface carries the same constraint in
     // both passes: keep it once (twice makes the multiplier system singular).
@@ -161,6 +161,7 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
     r.last_facet = r.before_facet = r.held_facet = -1;
   }
   discretization_->hold_facets({});
+  discretization_->begin_increment(x);
   frozen_reported_ = 0;
   enforcement_->begin_increment(nodes_);
   if (!frictional()) return;

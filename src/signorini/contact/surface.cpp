@@ -268,9 +268,11 @@ MasterSurface make_master_surface(const Mesh& mesh, const std::string& set) {
   return m;
 }
 
-SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d) {
+SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d, const std::string& method) {
   if (rigid_master) return SlaveBasis::standard;
-  if (discretization == "segment_to_segment") return SlaveBasis::modified;
+  // segment_to_segment, and Nitsche on mortar integration (the same points' class).
+  if (discretization == "segment_to_segment" || (discretization == "mortar" && method == "nitsche"))
+    return SlaveBasis::modified;
   if (discretization == "mortar" && three_d) return SlaveBasis::positive;
   return SlaveBasis::standard;
 }

@@ -66,8 +66,9 @@ MasterSurface make_master_surface(const Mesh& mesh, const std::string& facet_set
 // alpha = 1/5), or 3D mortar's transformed basis of non-negative functions (mortar.hpp,
 // mortar_positive_basis); the last two differ from N on quadratic facets only.
 enum class SlaveBasis { standard, modified, positive };
-// The basis a pair's discretization weighs its slave nodes with.
-SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d);
+// The basis a pair's discretization (and its enforcement `method`: Nitsche on mortar
+// integration has segment_to_segment's) weighs its slave nodes with.
+SlaveBasis slave_basis(const std::string& discretization, bool rigid_master, bool three_d, const std::string& method);
 // Throws Error when a slave facet type gives a node a non-positive weight (tri6, quad8 with the
 // standard basis; the other two are positive for every facet type).
 SlaveSurface make_slave_surface(const Mesh& mesh, const std::string& facet_set, const AnalysisSettings& settings,

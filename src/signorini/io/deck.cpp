@@ -870,7 +870,7 @@ void check_and_add_pair(const Node& c, ContactPairSettings cs, Model& m) {
     // Slave facets must give every node a positive contact area (checked here, with the place).
     try {
       make_slave_surface(m.mesh, cs.slave, m.settings,
-                         slave_basis(cs.discretization, cs.rigid, m.settings.spatial_dim() == 3));
+                         slave_basis(cs.discretization, cs.rigid, m.settings.spatial_dim() == 3, cs.method));
       if (cs.passes == 2) make_slave_surface(m.mesh, cs.master, m.settings);
     } catch (const Error& e) {
       c.fail(e.what());

@@ -808,9 +808,56 @@ class SegmentToSegment final : public DeformableMaster {
                                                     as.dimension == Dimension::axisymmetric, as.thickness));
     gamma0_ = s.nitsche_gamma > 0 ? s.nitsche_gamma : kNitscheGamma;
     node_ids_ = &mesh.node_ids;
+    cells_ = s.discretization == "mortar";
+    if (cells_) {
+      rule_ = integration_;
+      X_ = &mesh.nodes;
+      axisymmetric_ = as.dimension == Dimension::axisymmetric;
+      thickness_ = as.thickness;
+    }
   }
-  std::string name() const override { return "segment_to_segment"; }
+  // Nitsche on mortar integration (cells_) is this class on mortar's segments.
+  std::string name() const override { return cells_ ? "mortar" : "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
+
+  // Nitsche on mortar integration: each slave facet's points become those of mortar's
+  // segmentation against its candidates at the increment's start (mortar_cell_points), each
+  // held on its cell's master facet; a facet the master does not cover there keeps its own rule.
+  // The cells stay for the increment, so that the residual is a smooth function of the
+  // positions within it (the points fixed in the slave's parameters, as the facet's own rule's
+  // are) and the tangent stays exact; at the converged state they are those of its start, exact
+  // as long as the interface slides less than the cells' size in an increment. With the cells
+  // recomputed at every evaluation the tangent would miss the motion of the points.
+  void begin_increment(const std::vector<Vec3>& x) override {
+    if (!cells_) return;
+    const Index ne = slave_facets_.size();
+    held_.resize(ne);
+    hits_.resize(ne);
+#pragma omp parallel for schedule(dynamic, 8)
+    for (Index e = 0; e < ne; ++e) {
+      std::vector<MortarCellPoint> cells;
+      if (!candidates_[e].empty()) mortar_cell_points(slave_facets_, e, master_, candidates_[e], x, dim_, cells);
+      if (cells.empty()) {
+        integration_[e] = rule_[e];
+        held_[e].assign(rule_[e].N.size(), -1);
+        continue;
+      }
+      std::vector<Vec2> xi(cells.size());
+      std::vector<Real> w(cells.size());
+      held_[e].resize(cells.size());
+      hits_[e].clear();
+      for (size_t q = 0; q < cells.size(); ++q) {
+        xi[q] = Vec2(cells[q].xi[0], cells[q].xi[1]);
+        w[q] = cells[q].weight;
+        held_[e][q] = cells[q].master;
+        hits_[e].push_back(cells[q].master);
+      }
+      std::sort(hits_[e].begin(), hits_[e].end());
+      hits_[e].erase(std::unique(hits_[e].begin(), hits_[e].end()), hits_[e].end());
+      integration_[e] = integration_facet_at(rule_[e], *X_, dim_, axisymmetric_, thickness_, xi, w);
+    }
+    if (traction_) positive_weights();
+  }
 
   void set_boundary_traction(const BoundaryTraction* t) override {
     traction_ = t;
@@ -832,16 +879,7 @@ class SegmentToSegment final : public DeformableMaster {
     for (size_t e = 0; e < cell_.size(); ++e)
       facet_size_[e] = t->height(cell_[e], slave_facets_.facets[e], slave_facets_.type[e]) /
                        element_info(slave_facets_.type[e]).order;
-    // The reported nodal pressure: the points' [P]_+ averaged with the positive part of the
-    // modified basis, N+_j = max(N~_j, 0) (N~ itself is negative in places on tri6 and quad8).
-    positive_weight_.assign(slave_.nodes.size(), 0.0);
-    for (size_t e = 0; e < integration_.size(); ++e) {
-      const IntegrationFacet& f = integration_[e];
-      for (size_t q = 0; q < f.Nt.size(); ++q)
-        for (size_t j = 0; j < f.nodes.size(); ++j)
-          if (index_[f.nodes[j]] >= 0)
-            positive_weight_[index_[f.nodes[j]]] += std::max<Real>(f.Nt[q](static_cast<Index>(j)), 0) * f.weight[q];
-    }
+    positive_weights();
   }
   const std::vector<PointConstraint>* integration_points() const override { return traction_ ? &points_ : nullptr; }
   void set_point_origins() override {
@@ -1026,8 +1064,28 @@ class SegmentToSegment final : public DeformableMaster {
     }
   }
 
+  // The reported nodal pressure: the points' [P]_+ averaged with the positive part of the
+  // modified basis, N+_j = max(N~_j, 0) (N~ itself is negative in places on tri6 and quad8).
+  void positive_weights() {
+    positive_weight_.assign(slave_.nodes.size(), 0.0);
+    for (size_t e = 0; e < integration_.size(); ++e) {
+      const IntegrationFacet& f = integration_[e];
+      for (size_t q = 0; q < f.Nt.size(); ++q)
+        for (size_t j = 0; j < f.nodes.size(); ++j)
+          if (index_[f.nodes[j]] >= 0)
+            positive_weight_[index_[f.nodes[j]]] += std::max<Real>(f.Nt[q](static_cast<Index>(j)), 0) * f.weight[q];
+    }
+  }
+
   MasterSurface slave_facets_;
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
+  // Nitsche on mortar integration: the slave facets' own rules (integration_ holds the cells'
+  // points of the increment), the reference positions and the measure.
+  bool cells_ = false;
+  std::vector<IntegrationFacet> rule_;
+  const std::vector<Vec3>* X_ = nullptr;
+  bool axisymmetric_ = false;
+  Real thickness_ = 1;
   // Nitsche's method: the boundary traction, per slave facet the owning cell (handle), its
   // nodes and the facet's size h, gamma0, and the integration points of the last build.
   const BoundaryTraction* traction_ = nullptr;
@@ -1136,6 +1194,8 @@ std::unique_ptr<Discretization> make_discretization(const ContactPairSettings& s
   if (s.self && s.discretization == "node_to_segment") return std::make_unique<SelfNodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_segment") return std::make_unique<NodeToSegment>(s, mesh, slave, dim);
   if (s.discretization == "node_to_node") return std::make_unique<NodeToNode>(s, mesh, slave, dim);
+  // Nitsche on mortar integration: segment_to_segment's points on mortar's segments.
+  if (s.discretization == "mortar" && s.method == "nitsche") return std::make_unique<SegmentToSegment>(s, mesh, slave, as);
   if (s.discretization == "mortar") return std::make_unique<Mortar>(s, mesh, slave, as);  // self-contact too
   if (s.discretization == "segment_to_segment") return std::make_unique<SegmentToSegment>(s, mesh, slave, as);
   throw Error("contact '" + s.name + "': unknown discretization '" + s.discretization + "'");

@@ -78,6 +78,10 @@ class Discretization {
   // the closest) as long as the node projects onto it, up to kHeldFacetTolerance of it beyond
   // its edges. The others ignore it.
   virtual void hold_facets(std::vector<Index> /*facet*/) {}
+  // The start of an increment, at the converged positions x (after detect): Nitsche on mortar
+  // integration segments its slave facets here, and keeps the cells for the increment. Others:
+  // nothing.
+  virtual void begin_increment(const std::vector<Vec3>& /*x*/) {}
   virtual const std::vector<PointConstraint>* integration_points() const { return nullptr; }
   // Nitsche with friction: each integration point's slip origin, the master point it projects
   // on in the last build (at the start of the increment); the points of later builds then

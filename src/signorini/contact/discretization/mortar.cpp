@@ -156,9 +156,11 @@ bool solve_parameter(Real xi0, const FR& residual_real, const FT& residual, T& x
 // the focus of a concave slave wall's normals).
 
 // One integration point of a segment, for friction's slip (plain numbers): the slave and master
-// shape functions there and the point's weight (current dA times the Gauss weight).
+// shape functions there and the point's weight (current dA times the Gauss weight); for Nitsche
+// on mortar integration (mortar_cell_points) its slave parameter and the Gauss weight times the
+// segment's half length in that parameter.
 struct SegmentPoint {
-  Real N[3], M[3], w;
+  Real N[3], M[3], w, xi, pw;
 };
 
 template <class T>
@@ -257,6 +259,8 @@ bool segment_integrals(const Layout& L, const std::vector<P2<T>>& X, const Morta
       SegmentPoint sp;
       for (int k = 0; k < 3; ++k) sp.N[k] = k < ns ? value(N[k]) : 0, sp.M[k] = k < nm ? value(M2[k]) : 0;
       sp.w = value(w);
+      sp.xi = value(xi);
+      sp.pw = value(half) * gw[q];
       points->push_back(sp);
     }
     for (int k = 0; k < ns; ++k) {
@@ -417,6 +421,30 @@ void mortar_detail::weighted_gap_derivatives(int dim, int ns, const Real* u, con
   else if (nu <= 27) weighted_gap_derivatives_on<27>(dim, ns, u, tr, segments, r);
   else if (nu <= 44) weighted_gap_derivatives_on<44>(dim, ns, u, tr, segments, r);
   else weighted_gap_derivatives_on<kMaxU>(dim, ns, u, tr, segments, r);
+}
+
+void mortar_cell_points(const MasterSurface& slave, Index e, const MasterSurface& master,
+                        const std::vector<Index>& masters, const std::vector<Vec3>& x, int dim,
+                        std::vector<MortarCellPoint>& out) {
+  if (dim == 3) return mortar_cell_points_3d(slave, e, master, masters, x, out);
+  out.clear();
+  std::vector<Index> nodes;
+  std::vector<SegmentPoint> points;
+  for (Index m : masters) {
+    const Layout L = make_layout(slave, e, master, m, nodes);
+    std::vector<P2<Real>> X(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) X[i] = {x[nodes[i]](0), x[nodes[i]](1)};
+    Real u[kMaxU], length = 0, cover = 0;
+    points.clear();
+    if (!segment_integrals(L, X, MortarMeasure{}, u, length, cover, &points)) continue;
+    for (const SegmentPoint& q : points) {
+      MortarCellPoint p;
+      p.master = m;
+      p.xi[0] = q.xi;
+      p.weight = q.pw;
+      out.push_back(p);
+    }
+  }
 }
 
 MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const MasterSurface& master,

@@ -76,6 +76,28 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives,
                                     bool hessian = true);
 
+// Mortar's segmentation as integration points (Nitsche on mortar integration: the points of the
+// segments, 2D, or of the clipped polygons' triangles, 3D, that mortar_element_2d and
+// mortar_element_3d integrate on): slave facet e against each of `masters` at positions x, per
+// point the master facet of its segment or cell, its slave facet parameters (2D: xi[0]) and its
+// weight in the parameter measure (the rule's weight times the segment's or cell's extent in
+// the parameters; a current or reference area element makes it an area). The segments and cells
+// of different master facets tile the part of the slave facet the master covers, so a function
+// that is smooth on each master facet (the gap, the master's shape functions) is integrated
+// to the rule's degree across master edges and nodes, which a slave facet's own Gauss rule is
+// not (segment_to_segment).
+struct MortarCellPoint {
+  Index master = -1;
+  Real xi[2] = {0, 0};
+  Real weight = 0;
+};
+void mortar_cell_points(const MasterSurface& slave, Index e, const MasterSurface& master,
+                        const std::vector<Index>& masters, const std::vector<Vec3>& x, int dim,
+                        std::vector<MortarCellPoint>& out);
+void mortar_cell_points_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                           const std::vector<Index>& masters, const std::vector<Vec3>& x,
+                           std::vector<MortarCellPoint>& out);
+
 // N~ from N (the shape functions of a 3D slave facet, whose count tells its type) as in
 // mortar_dual.hpp, basis_transform: non-negative functions, N itself on tri3 and quad4; the basis
 // 3D mortar's dual basis and node weights are built on.

@@ -384,9 +384,11 @@ const std::vector<CellPoint>& cell_rule(int ns) {
 }
 
 // One integration point of the cells, for friction's slip (plain numbers): the slave and master
-// shape functions there and the point's weight (rule weight times current dA).
+// shape functions there and the point's weight (rule weight times current dA); for Nitsche on
+// mortar integration (mortar_cell_points) its slave parameters and the rule weight times the
+// cell's parameter area (twice it: the rule's weights sum to 1/2).
 struct CellSample {
-  Real N[kMaxFacetNodes], M[kMaxFacetNodes], w;
+  Real N[kMaxFacetNodes], M[kMaxFacetNodes], w, xi[2], pw;
 };
 
 // The integrals u (mortar_dual.hpp) of slave facet xs (ns nodes) against master facet xm (nm
@@ -532,6 +534,8 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
           for (int k = 0; k < ns; ++k) p.N[k] = value(N[k]);
           for (int k = 0; k < nm; ++k) p.M[k] = value(M[k]);
           p.w = value(w);
+          p.xi[0] = value(xi.a), p.xi[1] = value(xi.b);
+          p.pw = q.weight * value(det);
           points->push_back(p);
         }
         if (affine) continue;
@@ -605,6 +609,32 @@ bool derivatives_for(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegra
 }
 
 }  // namespace
+
+void mortar_cell_points_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
+                           const std::vector<Index>& masters, const std::vector<Vec3>& x,
+                           std::vector<MortarCellPoint>& out) {
+  out.clear();
+  const std::vector<Index>& sf = slave.facets[e];
+  const int ns = static_cast<int>(sf.size());
+  V3<Real> xs[kMaxFacetNodes], xm[kMaxFacetNodes];
+  for (int k = 0; k < ns; ++k) xs[k] = {x[sf[k]](0), x[sf[k]](1), x[sf[k]](2)};
+  std::vector<CellSample> points;
+  for (Index m : masters) {
+    const std::vector<Index>& mf = master.facets[m];
+    const int nm = static_cast<int>(mf.size());
+    for (int k = 0; k < nm; ++k) xm[k] = {x[mf[k]](0), x[mf[k]](1), x[mf[k]](2)};
+    Real u[kMaxU], area = 0, cover = 0;
+    points.clear();
+    if (!cell_integrals(ns, nm, xs, xm, u, area, cover, &points)) continue;
+    for (const CellSample& q : points) {
+      MortarCellPoint p;
+      p.master = m;
+      p.xi[0] = q.xi[0], p.xi[1] = q.xi[1];
+      p.weight = q.pw;
+      out.push_back(p);
+    }
+  }
+}
 
 MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const MasterSurface& master,
                                     const std::vector<Index>& masters, const std::vector<Vec3>& x, bool derivatives,

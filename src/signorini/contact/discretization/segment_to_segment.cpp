@@ -30,6 +30,33 @@ void modified_shape_functions(ElementType type, const VecX& N, VecX& Nt) {
   }
 }
 
+namespace {
+// One point of facet f at parameters xi with rule weight `weight`: N, N~, the weight times the
+// reference area element (thickness, 2 pi r) and the unit reference normal.
+void add_point(IntegrationFacet& f, const std::vector<Vec3>& X, int dim, bool axisymmetric, Real thickness,
+               const VecX& xi, Real weight) {
+  const int n = element_info(f.type).num_nodes;
+  VecX N, Ntq;
+  MatX dN;
+  shape_functions(f.type, xi, N, dN);
+  Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero(), x = Vec3::Zero();
+  for (int i = 0; i < n; ++i) {
+    x += N(i) * X[f.nodes[i]];
+    a1 += dN(i, 0) * X[f.nodes[i]];
+    if (dim == 3) a2 += dN(i, 1) * X[f.nodes[i]];
+  }
+  Real da = (dim == 2 ? a1.norm() : a1.cross(a2).norm()) * weight;
+  if (axisymmetric) da *= 2 * std::numbers::pi * x(0);
+  else if (dim == 2) da *= thickness;
+  Vec3 nq = dim == 2 ? Vec3(a1(1), -a1(0), 0) : a1.cross(a2);
+  f.normal.push_back(nq.norm() > 0 ? Vec3(nq / nq.norm()) : nq);
+  modified_shape_functions(f.type, N, Ntq);
+  f.N.push_back(N);
+  f.Nt.push_back(Ntq);
+  f.weight.push_back(da);
+}
+}  // namespace
+
 IntegrationFacet make_integration_facet(ElementType type, const std::vector<Index>& nodes,
                                         const std::vector<Vec3>& X, int dim, bool axisymmetric, Real thickness) {
   IntegrationFacet f;
@@ -43,32 +70,32 @@ IntegrationFacet make_integration_facet(ElementType type, const std::vector<Inde
   MatX M = MatX::Zero(n, n);
   VecX D = VecX::Zero(n);
   for (const QuadraturePoint& q : rule) {
-    VecX N, Ntq;
-    MatX dN;
-    shape_functions(type, q.xi, N, dN);
-    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero(), x = Vec3::Zero();
-    for (int i = 0; i < n; ++i) {
-      x += N(i) * X[nodes[i]];
-      a1 += dN(i, 0) * X[nodes[i]];
-      if (dim == 3) a2 += dN(i, 1) * X[nodes[i]];
-    }
-    Real da = (dim == 2 ? a1.norm() : a1.cross(a2).norm()) * q.weight;
-    if (axisymmetric) da *= 2 * std::numbers::pi * x(0);
-    else if (dim == 2) da *= thickness;
-    Vec3 nq = dim == 2 ? Vec3(a1(1), -a1(0), 0) : a1.cross(a2);
-    f.normal.push_back(nq.norm() > 0 ? Vec3(nq / nq.norm()) : nq);
-    modified_shape_functions(type, N, Ntq);
-    M += Ntq * Ntq.transpose() * da;
-    D += Ntq * da;
-    f.N.push_back(N);
-    f.Nt.push_back(Ntq);
-    f.weight.push_back(da);
+    add_point(f, X, dim, axisymmetric, thickness, q.xi, q.weight);
+    const VecX& Ntq = f.Nt.back();
+    M += Ntq * Ntq.transpose() * f.weight.back();
+    D += Ntq * f.weight.back();
   }
   // Dual basis Phi = A N~, A = D M^-1 (biorthogonal: int Phi_j N~_k = delta_jk D_j).
-  const MatX A = D.asDiagonal() * M.inverse();
-  for (const VecX& ntq : f.Nt) f.phi.push_back(A * ntq);
+  f.dual = D.asDiagonal() * M.inverse();
+  for (const VecX& ntq : f.Nt) f.phi.push_back(f.dual * ntq);
   f.area = D;
   return f;
+}
+
+IntegrationFacet integration_facet_at(const IntegrationFacet& f, const std::vector<Vec3>& X, int dim,
+                                      bool axisymmetric, Real thickness, const std::vector<Vec2>& xi,
+                                      const std::vector<Real>& weight) {
+  IntegrationFacet g;
+  g.type = f.type;
+  g.nodes = f.nodes;
+  g.dual = f.dual;
+  g.area = f.area;
+  const int pd = element_info(f.type).dim;
+  for (size_t q = 0; q < xi.size(); ++q) {
+    add_point(g, X, dim, axisymmetric, thickness, xi[q].head(pd), weight[q]);
+    g.phi.push_back(g.dual * g.Nt.back());
+  }
+  return g;
 }
 
 void integration_point_gaps(const IntegrationFacet& f, const MasterSurface& master, const std::vector<Index>& candidates,

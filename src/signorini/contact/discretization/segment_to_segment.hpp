@@ -29,6 +29,7 @@ struct IntegrationFacet {
   std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)
   std::vector<Vec3> normal; // per point: the unit normal of the reference facet (Nitsche's traction)
   VecX area;                // per node: int N~_j dA0 (positive)
+  MatX dual;                // the dual coefficients A (Phi = A N~), of the whole facet
 };
 
 // The modified basis N~ = N with, for tri6 and quad8, N~_corner = N_corner + (1/5) (the two
@@ -38,6 +39,15 @@ void modified_shape_functions(ElementType type, const VecX& N, VecX& Nt);
 
 IntegrationFacet make_integration_facet(ElementType type, const std::vector<Index>& nodes,
                                         const std::vector<Vec3>& X, int dim, bool axisymmetric, Real thickness);
+
+// The facet f (made by make_integration_facet) with its points replaced by `xi` (facet
+// parameters) of weights `weight` in the parameter measure (mortar's cells: Nitsche on mortar
+// integration, mortar_cell_points): N, N~, the weights times the reference area element (and
+// thickness or 2 pi r) and the reference normals at them; the dual functions keep the whole
+// facet's coefficients (f.dual) and `area` the whole facet's integrals.
+IntegrationFacet integration_facet_at(const IntegrationFacet& f, const std::vector<Vec3>& X, int dim,
+                                      bool axisymmetric, Real thickness, const std::vector<Vec2>& xi,
+                                      const std::vector<Real>& weight);
 
 // The weighted gaps of the facet's nodes at positions x against the master facets
 // `candidates`: `nodes` the facet's nodes then the master nodes met; per facet node its gap
