@@ -323,6 +323,40 @@ TEST(ContactPatch, NitscheCarriesTheUniformState) {
       }
 }
 
+// Nitsche on mortar integration (discretization: mortar, method: nitsche): the same points'
+// terms on mortar's segments, which end where master nodes project onto the slave facet, so
+// that the master's shape functions and the gap are polynomials on each segment and the Gauss
+// rule integrates them exactly: the uniform state to round-off (asserted 1e-8 of p), with each
+// variant, on MortarIsExact's pairs of linear and quadratic facets, where the punch stays and
+// after it slid by two foundation cells while the load came on (a fifth of a cell per
+// increment: the segments are cut again at every Newton iterate, so the converged state is
+// integrated on its own). With the segments of the increment's start the slid punch ended 1 %
+// from the uniform state.
+TEST(ContactPatch, NitscheOnMortarIntegrationIsExact) {
+  const Real exx = 0.4 * 1.4 * 10 / 1000;
+  struct Case {
+    ElementType punch, foundation;
+    int cells;
+  };
+  for (const Case& k : {Case{ElementType::quad4, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad4, 7},
+                        Case{ElementType::quad9, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad9, 3},
+                        Case{ElementType::quad8, ElementType::quad8, 3}})
+    for (Real slide : {0.0, 2.0})
+      for (int theta : {1, 0, -1}) {
+        const std::string what = std::string(element_info(k.punch).name) + " on " + element_info(k.foundation).name +
+                                 " " + std::to_string(k.cells) + " theta " + std::to_string(theta) + " slide " +
+                                 std::to_string(slide);
+        PatchResult r =
+            run("mortar", 1, "nitsche", k.cells, slide + 4 * exx, "none", k.punch, k.foundation, slide, false, 0, theta);
+        ASSERT_TRUE(r.completed) << what;
+        std::printf("%s: pressure %.12g .. %.12g, sigma_yy spread %.2e\n", what.c_str(), r.pressure_min,
+                    r.pressure_max, r.syy_spread);
+        EXPECT_NEAR(r.pressure_min, 10, 1e-8 * 10) << what;
+        EXPECT_NEAR(r.pressure_max, 10, 1e-8 * 10) << what;
+        EXPECT_LT(r.syy_spread, 1e-8 * 10) << what;
+      }
+}
+
 // Dual mortar at finite strain (Neo-Hookean, E = 1000, nu = 0.4; the pressures follow the
 // surfaces): the exact state is still homogeneous, F = diag(lx, ly, 1) with Cauchy sigma_xx = 0
 // and sigma_yy = -10 in both blocks, and so must be the computed one, before and after the

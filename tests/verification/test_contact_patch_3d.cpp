@@ -233,7 +233,13 @@ INSTANTIATE_TEST_SUITE_P(
                       Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"},
                       Patch3dCase{ElementType::hex27, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"},
-                      Patch3dCase{ElementType::tet10, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"}),
+                      Patch3dCase{ElementType::tet10, ElementType::tet10, 3, "lagrange", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex8, ElementType::tet4, 2, "nitsche", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex8, ElementType::tet10, 2, "nitsche", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::tet4, ElementType::hex8, 3, "nitsche", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::tet10, ElementType::hex8, 3, "nitsche", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex20, ElementType::tet4, 3, "nitsche", 1e-8, "mortar"},
+                      Patch3dCase{ElementType::hex27, ElementType::tet10, 3, "nitsche", 1e-8, "mortar"}),
     case_name);
 
 // The 3D mortar patch after sliding (issue 14: the patch "before and after the upper block
@@ -311,10 +317,16 @@ INSTANTIATE_TEST_SUITE_P(
                       SlidingPatchCase{{ElementType::tet4, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"}, false},
                       SlidingPatchCase{{ElementType::tet4, ElementType::tet4, 3, "lagrange", 1e-8, "mortar"}, true},
                       SlidingPatchCase{{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"}, false},
-                      SlidingPatchCase{{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"}, true}),
+                      SlidingPatchCase{{ElementType::tet10, ElementType::hex8, 3, "lagrange", 1e-8, "mortar"}, true},
+                      // Nitsche on mortar integration (small strain: Nitsche's limit), its cells
+                      // cut again at every Newton iterate.
+                      SlidingPatchCase{{ElementType::hex8, ElementType::hex8, 3, "nitsche", 1e-8, "mortar"}, false},
+                      SlidingPatchCase{{ElementType::tet4, ElementType::tet4, 3, "nitsche", 1e-8, "mortar"}, false},
+                      SlidingPatchCase{{ElementType::tet10, ElementType::hex8, 3, "nitsche", 1e-8, "mortar"}, false}),
     [](const ::testing::TestParamInfo<SlidingPatchCase>& i) {
       return element_info(i.param.c.punch).name + "_on_" + element_info(i.param.c.foundation).name +
-             (i.param.finite ? "_finite_strain" : "_small_strain");
+             (i.param.finite ? "_finite_strain" : "_small_strain") +
+             (std::string(i.param.c.method) == "nitsche" ? "_nitsche" : "");
     });
 
 // The same patch with Coulomb friction (mu = 0.2, segment_to_segment in 3D: the slip of each

@@ -820,43 +820,24 @@ class SegmentToSegment final : public DeformableMaster {
   std::string name() const override { return cells_ ? "mortar" : "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
 
-  // Nitsche on mortar integration: each slave facet's points become those of mortar's
-  // segmentation against its candidates at the increment's start (mortar_cell_points), each
-  // held on its cell's master facet; a facet the master does not cover there keeps its own rule.
-  // The cells stay for the increment, so that the residual is a smooth function of the
-  // positions within it (the points fixed in the slave's parameters, as the facet's own rule's
-  // are) and the tangent stays exact; at the converged state they are those of its start, exact
-  // as long as the interface slides less than the cells' size in an increment. With the cells
-  // recomputed at every evaluation the tangent would miss the motion of the points.
+  // Nitsche on mortar integration: each slave facet's points are those of mortar's segmentation
+  // against its candidates (mortar_cell_points), each held on its cell's master facet; a facet
+  // the master does not cover keeps its own rule. The cells are cut at the increment's start and
+  // again at every build that assembles the Newton matrix (set_second_variation), i.e. at every
+  // Newton iterate, and held for the residual-only builds that follow from it (a line search's
+  // trial points, finite differences): the Newton matrix and its residual belong to one fixed
+  // set of points, whose tangent is exact, and the converged state is integrated on its own
+  // cells (Taylor's patch test exact after sliding). The tangent leaves out the cells' motion:
+  // for an integrand continuous across the cells' edges (the gap and the master's shape
+  // functions are, on a C0 master) the motion of the edges adds nothing to the integral's
+  // derivative (the boundary terms of neighbouring cells cancel), and with a rule exact on each
+  // cell neither does the motion of the points; otherwise the tangent is off by the derivative
+  // of the rule's error.
   void begin_increment(const std::vector<Vec3>& x) override {
     if (!cells_) return;
-    const Index ne = slave_facets_.size();
-    held_.resize(ne);
-    hits_.resize(ne);
-#pragma omp parallel for schedule(dynamic, 8)
-    for (Index e = 0; e < ne; ++e) {
-      std::vector<MortarCellPoint> cells;
-      if (!candidates_[e].empty()) mortar_cell_points(slave_facets_, e, master_, candidates_[e], x, dim_, cells);
-      if (cells.empty()) {
-        integration_[e] = rule_[e];
-        held_[e].assign(rule_[e].N.size(), -1);
-        continue;
-      }
-      std::vector<Vec2> xi(cells.size());
-      std::vector<Real> w(cells.size());
-      held_[e].resize(cells.size());
-      hits_[e].clear();
-      for (size_t q = 0; q < cells.size(); ++q) {
-        xi[q] = Vec2(cells[q].xi[0], cells[q].xi[1]);
-        w[q] = cells[q].weight;
-        held_[e][q] = cells[q].master;
-        hits_[e].push_back(cells[q].master);
-      }
-      std::sort(hits_[e].begin(), hits_[e].end());
-      hits_[e].erase(std::unique(hits_[e].begin(), hits_[e].end()), hits_[e].end());
-      integration_[e] = integration_facet_at(rule_[e], *X_, dim_, axisymmetric_, thickness_, xi, w);
-    }
-    if (traction_) positive_weights();
+    start_ = x;
+    origins_.clear();  // set_point_origins, after the increment's first build
+    segment(x);
   }
 
   void set_boundary_traction(const BoundaryTraction* t) override {
@@ -939,6 +920,7 @@ class SegmentToSegment final : public DeformableMaster {
 
   void build(const std::vector<Vec3>& x, const VecX&, Real, ConstraintSet& out) const override {
     out = open_constraints(slave_);
+    if (cells_ && second_variation_) segment(x);  // a Newton iterate: its own cells
     const Index ne = slave_facets_.size();
     std::vector<std::vector<IntegrationResult>> results(ne);
     std::vector<std::vector<Index>> facet(ne);
@@ -1064,9 +1046,51 @@ class SegmentToSegment final : public DeformableMaster {
     }
   }
 
+  // Nitsche on mortar integration: the cells at positions x (begin_increment). With friction,
+  // each new point's slip origin is the master point it projected on at the increment's start.
+  void segment(const std::vector<Vec3>& x) const {
+    const Index ne = slave_facets_.size();
+    held_.resize(ne);
+    hits_.resize(ne);
+    const bool friction = !origins_.empty();
+#pragma omp parallel for schedule(dynamic, 8)
+    for (Index e = 0; e < ne; ++e) {
+      std::vector<MortarCellPoint> cells;
+      if (!candidates_[e].empty()) mortar_cell_points(slave_facets_, e, master_, candidates_[e], x, dim_, cells);
+      if (cells.empty()) {
+        integration_[e] = rule_[e];
+        held_[e].assign(rule_[e].N.size(), -1);
+      } else {
+        std::vector<Vec2> xi(cells.size());
+        std::vector<Real> w(cells.size());
+        held_[e].resize(cells.size());
+        hits_[e].clear();
+        for (size_t q = 0; q < cells.size(); ++q) {
+          xi[q] = Vec2(cells[q].xi[0], cells[q].xi[1]);
+          w[q] = cells[q].weight;
+          held_[e][q] = cells[q].master;
+          hits_[e].push_back(cells[q].master);
+        }
+        std::sort(hits_[e].begin(), hits_[e].end());
+        hits_[e].erase(std::unique(hits_[e].begin(), hits_[e].end()), hits_[e].end());
+        integration_[e] = integration_facet_at(rule_[e], *X_, dim_, axisymmetric_, thickness_, xi, w);
+      }
+      if (friction) {
+        origins_[e].assign(integration_[e].N.size(), {});
+        if (candidates_[e].empty()) continue;
+        IntegrationResult r;
+        std::vector<IntegrationPointGap> pg;
+        std::vector<Index> held = held_[e];
+        integration_point_gaps(integration_[e], master_, candidates_[e], start_, dim_, r, &pg, &held);
+        for (IntegrationPointGap& g : pg) origins_[e][g.q] = std::move(g.master_point);
+      }
+    }
+    if (traction_) positive_weights();
+  }
+
   // The reported nodal pressure: the points' [P]_+ averaged with the positive part of the
   // modified basis, N+_j = max(N~_j, 0) (N~ itself is negative in places on tri6 and quad8).
-  void positive_weights() {
+  void positive_weights() const {
     positive_weight_.assign(slave_.nodes.size(), 0.0);
     for (size_t e = 0; e < integration_.size(); ++e) {
       const IntegrationFacet& f = integration_[e];
@@ -1081,11 +1105,13 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<Index> index_;                     // mesh node -> slave node (-1: not a slave node)
   // Nitsche on mortar integration: the slave facets' own rules (integration_ holds the cells'
   // points of the increment), the reference positions and the measure.
+  // (segment() is a cache of the cells: it runs in build).
   bool cells_ = false;
   std::vector<IntegrationFacet> rule_;
   const std::vector<Vec3>* X_ = nullptr;
   bool axisymmetric_ = false;
   Real thickness_ = 1;
+  std::vector<Vec3> start_;  // the positions at the increment's start (the slip origins')
   // Nitsche's method: the boundary traction, per slave facet the owning cell (handle), its
   // nodes and the facet's size h, gamma0, and the integration points of the last build.
   const BoundaryTraction* traction_ = nullptr;
@@ -1093,14 +1119,14 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<Index> cell_;
   std::vector<std::vector<Index>> cell_nodes_;
   std::vector<Real> facet_size_;
-  std::vector<Real> positive_weight_;  // per slave node: int max(N~_j, 0) dA0 (the reported pressure's average)
+  mutable std::vector<Real> positive_weight_;  // per slave node: int max(N~_j, 0) dA0 (the reported pressure's average)
   Real gamma0_ = 0;
   mutable std::vector<PointConstraint> points_;
   // Friction: per slave facet and integration point, the master point of its slip origin
   // (empty: none; the whole vector empty: no friction).
-  std::vector<std::vector<std::vector<std::pair<Index, Real>>>> origins_;
+  mutable std::vector<std::vector<std::vector<std::pair<Index, Real>>>> origins_;
   std::vector<std::vector<Index>> candidates_;   // per slave facet: master facets it may meet
-  std::vector<IntegrationFacet> integration_;    // per slave facet: points, shape and dual functions
+  mutable std::vector<IntegrationFacet> integration_;  // per slave facet: points, shape and dual functions
   // Per slave facet: the master facets its points projected on at the last detect or build
   // (the sparse pattern's; build updates it, so a rebuilt pattern follows the sliding).
   mutable std::vector<std::vector<Index>> hits_;
