@@ -46,22 +46,26 @@ TEST(CalculixDeck, Hertz2dNodeToSurface) {
 // pressure, one increment (measured 17 Newton iterations: see enforcement.cpp on the bounded
 // geometric term).
 TEST(CalculixDeck, Hertz2dNitsche) {
-  for (int theta : {1, -1}) {
-    const test::Result r = test::run_yaml("h2d_nitsche", "hertz2d_coarse_cpe4.inp", false,
-                                          "discretization: segment_to_segment, enforcement: {method: nitsche, theta: " +
-                                              std::to_string(theta) + "}");
-    ASSERT_TRUE(r.completed) << theta;
-    EXPECT_EQ(r.summary.increments.size(), 1u) << theta;
-    const Real P = 2 * r.reaction;
-    EXPECT_NEAR(P, kCalculixLoad2d, 1e-3 * kCalculixLoad2d) << theta;
-    const Real p0 = test::hertz_p0(P, false);
-    Real lowest = 0;
-    for (const auto& [node, p] : r.pressure) lowest = std::min(lowest, p);
-    EXPECT_NEAR(test::peak_pressure(r), p0, 0.01 * p0) << theta;
-    EXPECT_GE(lowest, 0) << theta;
-    std::printf("nitsche theta %d: P %.6g, peak %.6g against Hertz p0 %.6g (%+.2f %%), %d Newton iterations\n", theta,
-                P, test::peak_pressure(r), p0, 100 * (test::peak_pressure(r) / p0 - 1), r.summary.total_iterations);
-  }
+  for (const std::string disc : {"segment_to_segment", "mortar"})
+    for (int theta : {1, -1}) {
+      const std::string what = disc + " theta " + std::to_string(theta);
+      const test::Result r = test::run_yaml("h2d_nitsche", "hertz2d_coarse_cpe4.inp", false,
+                                            "discretization: " + disc + ", enforcement: {method: nitsche, theta: " +
+                                                std::to_string(theta) + "}");
+      ASSERT_TRUE(r.completed) << what;
+      EXPECT_EQ(r.summary.increments.size(), 1u) << what;
+      const Real P = 2 * r.reaction;
+      EXPECT_NEAR(P, kCalculixLoad2d, 1e-3 * kCalculixLoad2d) << what;
+      const Real p0 = test::hertz_p0(P, false);
+      Real lowest = 0;
+      for (const auto& [node, p] : r.pressure) lowest = std::min(lowest, p);
+      EXPECT_NEAR(test::peak_pressure(r), p0, 0.01 * p0) << what;
+      EXPECT_GE(lowest, 0) << what;
+      std::printf("nitsche on %s: P %.6g (%+.3f %% of CalculiX's), peak %.6g against Hertz p0 %.6g (%+.2f %%), %d "
+                  "Newton iterations\n",
+                  what.c_str(), P, 100 * (P / kCalculixLoad2d - 1), test::peak_pressure(r), p0,
+                  100 * (test::peak_pressure(r) / p0 - 1), r.summary.total_iterations);
+    }
 }
 
 // Nitsche in other units: the same problem in (m, Pa) as in (mm, MPa), the mesh scaled by 1e-3

@@ -366,8 +366,9 @@ void register_deck_sections(Registry& r) {
          {choice("method",
                  "lagrange: multipliers, semi-smooth Newton, exact non-penetration; augmented_lagrangian: penalty "
                  "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>; "
-                 "nitsche: Nitsche's method on segment_to_segment's integration points (the slave body's stress "
-                 "gives the pressure; small strain, elastic bodies; with friction the stress gives the tangential traction too)",
+                 "nitsche: Nitsche's method on segment_to_segment's integration points or on mortar's segments and "
+                 "cells (the slave body's stress gives the pressure; small strain, elastic bodies; with friction the "
+                 "stress gives the tangential traction too)",
                  {"lagrange", "augmented_lagrangian", "penalty", "nitsche"}, "lagrange"),
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),
