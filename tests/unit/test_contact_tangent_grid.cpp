@@ -38,9 +38,12 @@ ElementType cell_of(ElementType facet) {
 }
 
 // One combination (ASSERTs return from here; the failure names the combination).
-// theta: Nitsche's variant.
-void check_combination(const ContactCombination& c, int theta = 1) {
-  SCOPED_TRACE(c.text() + (c.method == "nitsche" ? " theta " + std::to_string(theta) : std::string()));
+// theta: Nitsche's variant; finite: finite strain (Nitsche: theta 0, the current normal and the
+// nominal traction of a Saint Venant-Kirchhoff body).
+void check_combination(const ContactCombination& c, int theta = 1, bool finite = false) {
+  const std::string variant =
+      c.method == "nitsche" ? " theta " + std::to_string(theta) + (finite ? " finite strain" : "") : std::string();
+  SCOPED_TRACE(c.text() + variant);
   const bool three = c.dimension == Dimension::three_d;
   const bool ntn = c.discretization == "node_to_node";
   const int vert = three ? 2 : 1;
@@ -66,6 +69,7 @@ void check_combination(const ContactCombination& c, int theta = 1) {
   orient_facets(mesh);
   AnalysisSettings as;
   as.dimension = c.dimension;
+  as.finite_strain = finite;
   const int dim = as.spatial_dim();
   std::vector<const ElementBlock*> cells;
   for (auto& [n, blocks] : mesh.regions)
@@ -313,7 +317,7 @@ void check_combination(const ContactCombination& c, int theta = 1) {
       }
     }
     std::printf("%s%s: %lld closed, %lld open, %lld stick, %lld slip; tangent error %.2e of max |K| %.2e\n",
-                c.text().c_str(), c.method == "nitsche" ? (" theta " + std::to_string(theta)).c_str() : "", (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
+                c.text().c_str(), variant.c_str(), (long long)closed, (long long)open, (long long)stick, (long long)slip, err / maxk,
                 maxk);
     if (err >= 1e-6 * maxk && kink && c.method == "nitsche" && c.friction != "none" && nudges < 3) {
       std::printf("  a kink at this state: the bound nudged by 1 %%\n");
@@ -354,9 +358,12 @@ TEST(TangentGrid, EveryCombinationOfTheTableMatchesCentralDifferences) {
   for (const ContactCombination& c : all)
     if (c.dimension != Dimension::three_d && selected(c)) {
       check_combination(c);
-      // Nitsche's other variants (theta 0 and -1 change only the weights of its terms; 2D suffices).
-      if (c.method == "nitsche")
+      // Nitsche's other variants (theta 0 and -1 change only the weights of its terms; 2D
+      // suffices), and at finite strain (theta 0).
+      if (c.method == "nitsche") {
         for (int theta : {0, -1}) check_combination(c, theta);
+        check_combination(c, 0, true);
+      }
     }
 }
 
@@ -421,10 +428,17 @@ TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
     if (c.dimension == Dimension::three_d && c.method == "nitsche" && selected(c)) {
       check_combination(c);
       ++rows;
+      // At finite strain (theta 0), every Coulomb row (frictionless and Tresca differ in the
+      // friction law only).
+      if (c.friction == "coulomb") {
+        check_combination(c, 0, true);
+        ++rows;
+      }
     }
   std::printf("%d 3D Nitsche rows checked\n", rows);
   if (!std::getenv("SIGNORINI_GRID_FILTER")) {
-    EXPECT_EQ(rows, 150) << "segment_to_segment and mortar, each 25 frictionless, 25 Coulomb and 25 Tresca rows";
+    EXPECT_EQ(rows, 200) << "segment_to_segment and mortar, each 25 frictionless, 25 Coulomb and 25 Tresca rows, and "
+                            "the 25 Coulomb rows at finite strain";
   }
 }
 

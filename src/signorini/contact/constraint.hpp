@@ -80,9 +80,12 @@ struct PointConstraint {
   // the slave body's traction t = sigma.nu and dt/du over `nodes` (dim rows), and the slip of the
   // increment d = x_s(xi_q) - x_0 (x_0 the origin's master material point) with D = dd/dz over
   // `nodes` (dim rows, constant). Small strain: nu is fixed, the tangential parts are
-  // (I - nu nu^T) of these.
+  // (I - nu nu^T) of these. Finite strain: nu is the facet's current unit normal at the point,
+  // normal_jacobian = d nu / dx over `nodes` (dim rows; empty at small strain), t the nominal
+  // traction (per reference area) and p = -nu.t.
   bool has_slip = false;
   Vec3 normal = Vec3::Zero();
+  MatX normal_jacobian;
   Vec3 traction = Vec3::Zero();
   MatX traction_grad;
   Vec3 slip = Vec3::Zero();

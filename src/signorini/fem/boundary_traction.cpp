@@ -12,8 +12,6 @@ namespace signorini {
 
 BoundaryTraction::BoundaryTraction(std::vector<Cells> cells, const std::vector<Vec3>& X, AnalysisSettings settings)
     : cells_(std::move(cells)), X_(&X), settings_(settings) {
-  if (settings_.finite_strain)
-    throw Error("the bodies' boundary traction (Nitsche's method) is available in small strain only");
   for (const Cells& c : cells_)
     if (c.material->history_size() > 0)
       throw Error("the bodies' boundary traction (Nitsche's method) needs materials without history (elastic): '" +
@@ -144,17 +142,29 @@ void BoundaryTraction::traction(Index handle, const std::vector<Index>& facet, c
       for (int d = 0; d < dim; ++d) H(i, d) += ua(i) * G(a, d);
     if (axi && R > 0) H(2, 2) += N(a) * ua(0) / R;
   }
+  const bool finite = settings_.finite_strain;
   MaterialInput in;
+  in.finite = finite;
   Vec6 S;
   Mat6 D;
-  in.strain = to_voigt_strain(0.5 * (H + H.transpose()));
-  mat.compute(in, S, D);
+  Mat3 F = Mat3::Identity() + H;
+  auto evaluate = [&]() {
+    if (finite) {
+      in.F = F;
+      in.strain = to_voigt_strain(0.5 * (F.transpose() * F - Mat3::Identity()));
+    } else {
+      in.strain = to_voigt_strain(0.5 * (H + H.transpose()));
+    }
+    mat.compute(in, S, D);
+  };
+  evaluate();
   if (settings_.dimension == Dimension::plane_stress) {
-    // sigma_zz = 0: the out-of-plane strain from the local Newton iteration of Body::element,
-    // and the tangent condensed.
+    // sigma_zz = 0 (S_zz at finite strain): the out-of-plane strain or stretch from the local
+    // Newton iteration of Body::element, and the tangent condensed.
     for (int it = 0; it < 25 && std::abs(S(2)) > 1e-12 * (S.norm() + mat.stiffness_scale() * 1e-12); ++it) {
-      in.strain(2) -= S(2) / D(2, 2);
-      mat.compute(in, S, D);
+      if (finite) F(2, 2) -= S(2) / (D(2, 2) * F(2, 2));
+      else H(2, 2) -= S(2) / D(2, 2);
+      evaluate();
     }
     const Real d22 = D(2, 2);
     const Vec6 col = D.col(2), row = D.row(2).transpose();
@@ -162,14 +172,39 @@ void BoundaryTraction::traction(Index handle, const std::vector<Index>& facet, c
       for (int k = 0; k < 6; ++k) D(i, k) -= col(i) * row(k) / d22;
     S(2) = 0;
   }
+  // B: the strain's variation per nodal DOF (engineering shears), delta E = sym(F^T delta F) at
+  // finite strain (F = I at small strain), as Body::element.
+  const Mat3 Fb = finite ? F : Mat3::Identity();
   Eigen::Matrix<Real, 6, Eigen::Dynamic> B = Eigen::Matrix<Real, 6, Eigen::Dynamic>::Zero(6, nn * dim);
   for (int a = 0; a < nn; ++a) {
     const Real g0 = G(a, 0), g1 = G(a, 1), g2 = G(a, 2);
     for (int i = 0; i < dim; ++i) {
       const int col = a * dim + i;
-      strain_column(B.col(col), i == 0, i == 1, i == 2, g0, g1, g2);
+      strain_column(B.col(col), Fb(i, 0), Fb(i, 1), Fb(i, 2), g0, g1, g2);
     }
-    if (axi && R > 0) B(2, a * dim) += N(a) / R;
+    if (axi && R > 0) B(2, a * dim) += Fb(2, 2) * N(a) / R;
+  }
+  if (finite) {
+    // The nominal traction t = P n = F S n (P the first Piola-Kirchhoff stress, n the reference
+    // normal: force per reference area) and its variation dt = dF S n + F dS n, dF = e_i (x)
+    // grad N_a for DOF (a, i) (and the hoop term N_a / R in F_zz in axisymmetry), dS = D dE.
+    const Mat3 Sm = from_voigt_stress(S);
+    const Vec3 Sn = Sm * n;
+    t.setZero();
+    t.head(dim) = (F * Sn).head(dim);
+    grad.setZero(dim, nn * dim);
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i) {
+        const int col = a * dim + i;
+        const Vec6 dS = D * B.col(col);
+        Vec3 dt = F * (from_voigt_stress(dS) * n);
+        Real gn = 0;
+        for (int d = 0; d < dim; ++d) gn += G(a, d) * Sn(d);
+        dt(i) += gn;
+        if (axi && R > 0 && i == 0) dt(2) += N(a) / R * Sn(2);
+        grad.col(col) = dt.head(dim);
+      }
+    return;
   }
   // t = sigma n = T S, T the Voigt form of the map sigma -> sigma n (S: xx yy zz yz xz xy).
   Eigen::Matrix<Real, 3, 6> T = Eigen::Matrix<Real, 3, 6>::Zero();

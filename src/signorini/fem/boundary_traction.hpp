@@ -1,10 +1,12 @@
 // The bodies' normal pressure at points of their boundary, from the stress of the cells that
 // own the boundary facets: what Nitsche's method needs (Chouly, Hild & Renard 2015): the
 // contact pressure p = -n.sigma(u).n of the slave body at a point of a slave facet and its
-// gradient over the cell's displacements. Small strain, materials without history: sigma is
+// gradient over the cell's displacements. Materials without history; at small strain sigma is
 // the material's stress at the point (its strain from the cell's shape functions, which the
 // point's facet coordinates give in the cell's reference element), dp/du = -m^T D B with m the
-// Voigt form of n (x) n; its traction t = sigma.n for friction, dt/du = T D B.
+// Voigt form of n (x) n; its traction t = sigma.n for friction, dt/du = T D B. At finite strain
+// (total Lagrangian) the nominal traction t = P n = F S n per reference area, n the reference
+// normal, and dt/du = dF S n + F (D dE) n.
 #pragma once
 #include <memory>
 #include <vector>

@@ -783,8 +783,13 @@ void read_contacts(const Node& list_or_auto, const Registry& r, Model& m) {
       if (e.has("gap_tolerance")) cs.gap_tolerance = auto_or_positive(e.child("gap_tolerance"));
       cs.max_uzawa = static_cast<int>(e.number(es, "max_uzawa"));
       if (e.has("gamma")) cs.nitsche_gamma = auto_or_positive(e.child("gamma"));
-      const Real theta = e.number(es, "theta");
+      // theta: 1 by default; at finite strain 0, the only variant there (docs/contact.md, Nitsche
+      // at finite strain: the others' Newton matrix needs the stress's second derivative).
+      const Real theta = m.settings.finite_strain && !e.has("theta") ? 0 : e.number(es, "theta");
       if (theta != 1 && theta != 0 && theta != -1) e.child("theta").fail("theta is 1 (symmetric), 0 or -1");
+      if (m.settings.finite_strain && theta != 0 && cs.method == "nitsche")
+        e.child("theta").fail("at finite strain nitsche takes theta: 0 (the default there): the Newton matrix of "
+                              "theta 1 and -1 needs the second derivative of the bodies' stress");
       cs.nitsche_theta = static_cast<int>(theta);
       if (cs.method != "nitsche")
         for (const char* k : {"gamma", "theta"})
@@ -875,11 +880,9 @@ void check_and_add_pair(const Node& c, ContactPairSettings cs, Model& m) {
     } catch (const Error& e) {
       c.fail(e.what());
     }
-    // Nitsche's method reads the bodies' stress at the contact surface: small strain, elastic.
+    // Nitsche's method reads the bodies' stress at the contact surface: elastic bodies.
     if (cs.method == "nitsche") {
       const Node at = c.child("enforcement").child("method");
-      if (m.settings.finite_strain)
-        at.fail("nitsche is available in small strain only (analysis.kinematics: small_strain)");
       for (auto& b : m.bodies)
         if (!b->rigid() && b->material().history_size() > 0)
           at.fail("nitsche needs bodies without history (elastic): body '" + b->name() + "' is " +

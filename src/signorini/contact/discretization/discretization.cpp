@@ -809,6 +809,7 @@ class SegmentToSegment final : public DeformableMaster {
     gamma0_ = s.nitsche_gamma > 0 ? s.nitsche_gamma : kNitscheGamma;
     node_ids_ = &mesh.node_ids;
     cells_ = s.discretization == "mortar";
+    finite_ = as.finite_strain;
     if (cells_) {
       rule_ = integration_;
       X_ = &mesh.nodes;
@@ -1009,15 +1010,24 @@ class SegmentToSegment final : public DeformableMaster {
       pc.hess = g.hess;
       pc.gap_nodes = static_cast<int>(r.nodes.size());
       // The slave body's traction t = sigma.nu (nu the facet's reference normal) and its
-      // normal pressure p = -nu.t, with their gradients over `nodes`.
+      // normal pressure p = -nu.t, with their gradients over `nodes`. Finite strain: t the
+      // nominal traction F S nu, and p = -n.t with n the facet's current unit normal at the
+      // point, dp = -n.dt - t.dn.
       const Vec3& nu = f.normal[g.q];
       traction_->traction(cell_[e], f.nodes, f.N[g.q], nu, x, pc.traction, tcell);
       pc.traction_grad = MatX::Zero(dim_, m);
       for (size_t a = 0; a < at.size(); ++a)
         pc.traction_grad.middleCols(at[a] * dim_, dim_) = tcell.middleCols(static_cast<Index>(a) * dim_, dim_);
-      pc.pressure = -nu.head(dim_).dot(pc.traction.head(dim_));
-      pc.pressure_grad = -(pc.traction_grad.transpose() * nu.head(dim_));
-      pc.normal = nu;
+      if (finite_) {
+        current_normal(f, g.q, x, m, pc.normal, pc.normal_jacobian);
+        pc.pressure = -pc.normal.head(dim_).dot(pc.traction.head(dim_));
+        pc.pressure_grad = -(pc.traction_grad.transpose() * pc.normal.head(dim_)) -
+                           pc.normal_jacobian.transpose() * pc.traction.head(dim_);
+      } else {
+        pc.pressure = -nu.head(dim_).dot(pc.traction.head(dim_));
+        pc.pressure_grad = -(pc.traction_grad.transpose() * nu.head(dim_));
+        pc.normal = nu;
+      }
       pc.stiffness = eps;
       // The slip of the increment from the point's origin: d = sum_i N_i x_i - sum_b w_b x_b.
       if (friction && !origins_[e][g.q].empty()) {
@@ -1043,6 +1053,41 @@ class SegmentToSegment final : public DeformableMaster {
           pc.shares.push_back({sj, np * f.weight[g.q] / positive_weight_[sj]});
       }
       out.push_back(std::move(pc));
+    }
+  }
+
+  // The unit normal n = m / |m| of slave facet f at its point q at positions x (m = a1 x a2 in
+  // 3D, (a1_y, -a1_x) in 2D: the reference normal's orientation, outward) and dn/dx over the
+  // facet's nodes, the first of `m` columns: dn = (I - n n^T) dm / |m|, with dm/dx_i =
+  // dN_i,1 [a1]x - dN_i,0 [a2]x in 3D ([v]x w = v x w) and dN_i,0 [[0, 1], [-1, 0]] in 2D.
+  void current_normal(const IntegrationFacet& f, int q, const std::vector<Vec3>& x, Index m, Vec3& n,
+                      MatX& jacobian) const {
+    const MatX& dN = f.dN[q];
+    const int ns = static_cast<int>(f.nodes.size());
+    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
+    for (int i = 0; i < ns; ++i) {
+      a1 += dN(i, 0) * x[f.nodes[i]];
+      if (dim_ == 3) a2 += dN(i, 1) * x[f.nodes[i]];
+    }
+    const Vec3 mv = dim_ == 3 ? Vec3(a1.cross(a2)) : Vec3(a1(1), -a1(0), 0);
+    const Real len = mv.norm();
+    n = mv / len;
+    const Mat3 P = (Mat3::Identity() - n * n.transpose()) / len;
+    auto skew = [](const Vec3& v) {
+      Mat3 s;
+      s << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
+      return s;
+    };
+    jacobian = MatX::Zero(dim_, m);
+    for (int i = 0; i < ns; ++i) {
+      Mat3 dm = Mat3::Zero();
+      if (dim_ == 3) {
+        dm = dN(i, 1) * skew(a1) - dN(i, 0) * skew(a2);
+      } else {
+        dm(0, 1) = dN(i, 0);
+        dm(1, 0) = -dN(i, 0);
+      }
+      jacobian.middleCols(static_cast<Index>(i) * dim_, dim_) = (P * dm).topLeftCorner(dim_, dim_);
     }
   }
 
@@ -1106,6 +1151,7 @@ class SegmentToSegment final : public DeformableMaster {
   // Nitsche on mortar integration: the slave facets' own rules (integration_ holds the cells'
   // points of the increment), the reference positions and the measure.
   // (segment() is a cache of the cells: it runs in build).
+  bool finite_ = false;  // Nitsche at finite strain: the current normal (current_normal)
   bool cells_ = false;
   std::vector<IntegrationFacet> rule_;
   const std::vector<Vec3>* X_ = nullptr;

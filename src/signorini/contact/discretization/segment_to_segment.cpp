@@ -52,6 +52,7 @@ void add_point(IntegrationFacet& f, const std::vector<Vec3>& X, int dim, bool ax
   f.normal.push_back(nq.norm() > 0 ? Vec3(nq / nq.norm()) : nq);
   modified_shape_functions(f.type, N, Ntq);
   f.N.push_back(N);
+  f.dN.push_back(dN);
   f.Nt.push_back(Ntq);
   f.weight.push_back(da);
 }

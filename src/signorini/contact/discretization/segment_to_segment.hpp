@@ -24,6 +24,7 @@ struct IntegrationFacet {
   ElementType type = ElementType::line2;
   std::vector<Index> nodes;
   std::vector<VecX> N;      // per point: the facet's shape functions (geometry)
+  std::vector<MatX> dN;     // per point: their parameter derivatives (the current normal at finite strain)
   std::vector<VecX> phi;    // per point: the dual shape functions
   std::vector<VecX> Nt;     // per point: the modified basis N~ (friction's averaging weights)
   std::vector<Real> weight; // per point: quadrature weight x reference area element (x thickness or 2 pi r)

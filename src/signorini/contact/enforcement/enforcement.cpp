@@ -541,6 +541,15 @@ class Nitsche final : public Enforcement {
     Q.head(dim) = sigma - eps * (PT * pc.slip.head(dim));
     VecX t = VecX::Zero(dim);
     MatX dtau = MatX::Zero(dim, pc.grad.size());
+    // Finite strain (theta 0): nu is the current normal, and P_T varies: dQ = P_T (dt - eps dd)
+    // + dP_T v with v = t - eps d and dP_T v = -dnu (nu.v) - nu (v.dnu).
+    const bool finite = pc.normal_jacobian.size() > 0;
+    if (finite && theta != 0) throw Error("nitsche: at finite strain theta is 0");
+    MatX dQ = G - eps * DT;
+    if (finite) {
+      const VecX v = pc.traction.head(dim) - eps * pc.slip.head(dim);
+      dQ -= pc.normal_jacobian * nu.dot(v) + nu * (v.transpose() * pc.normal_jacobian);
+    }
     if (active) {
       const Real bound = law.bound(P);
       const ReturnMap rm = return_map(Q, bound);
@@ -548,7 +557,7 @@ class Nitsche final : public Enforcement {
       slipped = rm.slip;
       excess = Q.norm() - bound;
       if (k) {
-        dtau = rm.d_trial.topLeftCorner(dim, dim) * (G - eps * DT);
+        dtau = rm.d_trial.topLeftCorner(dim, dim) * dQ;
         const Real db = law.bound_derivative(P);
         if (db != 0) dtau += (db * rm.d_bound.head(dim)) * (pc.pressure_grad - eps * pc.grad).transpose();
       }
@@ -557,7 +566,8 @@ class Nitsche final : public Enforcement {
     tau.head(dim) = t;
     r.noalias() += w * (DT.transpose() * t) + (theta * w / eps) * (G.transpose() * (sigma - t));
     if (k) {
-      k->noalias() -= w * (DT.transpose() * dtau);
+      // d(D_T^T tau) = D^T d(P_T tau) = D^T dtau (tau stays tangential; at small strain P_T dtau = dtau).
+      k->noalias() -= w * (pc.slip_jacobian.transpose() * dtau);
       k->noalias() -= (theta * w / eps) * (G.transpose() * (G - dtau));
     }
     force.head(dim) += w * t;
