@@ -367,8 +367,8 @@ void register_deck_sections(Registry& r) {
                  "lagrange: multipliers, semi-smooth Newton, exact non-penetration; augmented_lagrangian: penalty "
                  "with Uzawa updates of the multipliers until the gap tolerance is met; penalty: p = eps <-g>; "
                  "nitsche: Nitsche's method on segment_to_segment's integration points or on mortar's segments and "
-                 "cells (the slave body's stress gives the pressure; small strain, elastic bodies; with friction the "
-                 "stress gives the tangential traction too)",
+                 "cells (the slave body's stress gives the pressure; elastic bodies, theta 0 at finite strain; with "
+                 "friction the stress gives the tangential traction too)",
                  {"lagrange", "augmented_lagrangian", "penalty", "nitsche"}, "lagrange"),
           text("penalty", "penalty eps (pressure per unit penetration), or auto = penalty_factor * E / h_slave; also "
                           "the complementarity constant of lagrange", "auto", ParamKind::any),
@@ -379,7 +379,10 @@ void register_deck_sections(Registry& r) {
           number("max_uzawa", "augmented_lagrangian: Uzawa updates per increment before cutting back", "30", 1, 1000),
           text("gamma", "nitsche: gamma0 of the parameter gamma0 E / h (E the slave body's modulus, h the height of "
                         "the slave facet's cell over the facet, divided by the facet's order), or auto = 10", "auto", ParamKind::any),
-          number("theta", "nitsche: 1 symmetric (Cholesky), 0 incomplete, -1 skew-symmetric", "1", -1, 1)}});
+          number("theta",
+                 "nitsche: 1 symmetric (Cholesky), 0 incomplete, -1 skew-symmetric; at finite strain 0 (the default "
+                 "there; 1 and -1 are refused)",
+                 "1", -1, 1)}});
   r.add({"deck", "hardening", "Hardening of j2_plasticity (material key 'hardening').",
          {opt(text("isotropic", "{type: linear, H: ...} or {type: voce, saturation: ..., rate: ..., H: ...} (see "
                                 "'describe isotropic_hardening')", std::nullopt, ParamKind::any)),
