@@ -474,6 +474,48 @@ TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
   EXPECT_NO_THROW(pair.set_boundary_traction(&all));
 }
 
+// At finite strain Nitsche is theta 0 only (the deck refuses the others with the key's line): a
+// pair given theta 1 by hand at finite strain refuses to assemble rather than give a Newton
+// matrix without the pressure's second derivative; theta 0 assembles.
+TEST(Nitsche, FiniteStrainTakesThetaZeroOnly) {
+  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.49, 0), false, ElementType::quad4, 1);
+  orient_facets(mesh);
+  AnalysisSettings as;
+  as.finite_strain = true;
+  std::vector<const ElementBlock*> blocks;
+  for (auto& [n, bs] : mesh.regions)
+    for (auto& b : bs) blocks.push_back(&b);
+  DofMap dofs(mesh.num_nodes(), 2, blocks);
+  const LinearElastic elastic(100.0, 0.3);
+  std::vector<BoundaryTraction::Cells> cells;
+  for (auto& [n, bs] : mesh.regions)
+    for (auto& b : bs) cells.push_back({&b, &elastic});
+  const BoundaryTraction traction(cells, mesh.nodes, as);
+  for (int theta : {1, 0}) {
+    ContactPairSettings cs;
+    cs.name = "c";
+    cs.master = "lower_ymax";
+    cs.slave = "upper_ymin";
+    cs.discretization = "mortar";
+    cs.method = "nitsche";
+    cs.nitsche_theta = theta;
+    ContactInterface pair(cs, mesh, as, 100.0, false);
+    pair.set_boundary_traction(&traction);
+    VecX z = VecX::Zero(dofs.num_dofs());
+    for (Index n : mesh.node_sets.at("upper_domain")) z(dofs.dof(n, 1)) = -0.02;
+    const std::vector<Vec3> x = test::cells_of_positions(mesh, dofs, z);
+    pair.detect(x, 0.05);
+    pair.begin_increment(x, z);
+    VecX r = VecX::Zero(dofs.num_dofs());
+    if (theta == 1) {
+      EXPECT_THROW(pair.assemble(x, z, dofs, r, nullptr), Error);
+    } else {
+      EXPECT_NO_THROW(pair.assemble(x, z, dofs, r, nullptr));
+      EXPECT_GT(r.norm(), 0) << "the blocks overlap by 0.01: contact forces";
+    }
+  }
+}
+
 TEST(CompatibilityTable, EveryRuleHasACaseAndAMessage) {
   // Each rule excludes at least one combination, with its own message; supported ones pass.
   ContactCombination tri6;

@@ -415,6 +415,11 @@ class Nitsche final : public Enforcement {
     out.slave_force.setZero();
     if (!in.points) throw Error("nitsche: the discretization gave no integration points (segment_to_segment needed)");
     const std::vector<PointConstraint>& pts = *in.points;
+    // Finite strain (the points carry their current normal's variation): theta 0 only, whose
+    // Newton matrix needs the pressure's first derivative only (docs/contact.md).
+    if (theta_ != 0 && !pts.empty() && pts.front().normal_jacobian.size() > 0)
+      throw Error("nitsche: at finite strain theta is 0 (the Newton matrix of theta 1 and -1 needs the second "
+                  "derivative of the bodies' stress)");
     const DofMap& dm = *in.dofs;
     auto point_dofs = [&](const PointConstraint& pc, std::vector<Index>& d) {
       d.clear();
@@ -544,7 +549,6 @@ class Nitsche final : public Enforcement {
     // Finite strain (theta 0): nu is the current normal, and P_T varies: dQ = P_T (dt - eps dd)
     // + dP_T v with v = t - eps d and dP_T v = -dnu (nu.v) - nu (v.dnu).
     const bool finite = pc.normal_jacobian.size() > 0;
-    if (finite && theta != 0) throw Error("nitsche: at finite strain theta is 0");
     MatX dQ = G - eps * DT;
     if (finite) {
       const VecX v = pc.traction.head(dim) - eps * pc.slip.head(dim);
