@@ -445,17 +445,23 @@ TEST(TangentGrid, Every3DNitscheCombinationMatchesCentralDifferences) {
 // Nitsche reads the slave body's stress: a slave facet that no deformable cell owns (here the
 // upper block's cells are left out, as a rigid body's are) is refused when the pair gets the
 // bodies' traction, naming the facet's mesh nodes.
-TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
-  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.49, 0), false, ElementType::quad4, 1);
-  orient_facets(mesh);
-  AnalysisSettings as;
+// A Nitsche pair of test::two_blocks' faces (the upper block's bottom slave).
+ContactPairSettings nitsche_pair(const std::string& discretization, int theta = 1) {
   ContactPairSettings cs;
   cs.name = "c";
   cs.master = "lower_ymax";
   cs.slave = "upper_ymin";
-  cs.discretization = "segment_to_segment";
+  cs.discretization = discretization;
   cs.method = "nitsche";
-  ContactInterface pair(cs, mesh, as, 100.0, false);
+  cs.nitsche_theta = theta;
+  return cs;
+}
+
+TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
+  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.49, 0), false, ElementType::quad4, 1);
+  orient_facets(mesh);
+  AnalysisSettings as;
+  ContactInterface pair(nitsche_pair("segment_to_segment"), mesh, as, 100.0, false);
   ASSERT_TRUE(pair.needs_boundary_traction());
   const LinearElastic elastic(100.0, 0.3);
   std::vector<BoundaryTraction::Cells> lower;
@@ -492,14 +498,7 @@ TEST(Nitsche, FiniteStrainTakesThetaZeroOnly) {
     for (auto& b : bs) cells.push_back({&b, &elastic});
   const BoundaryTraction traction(cells, mesh.nodes, as);
   for (int theta : {1, 0}) {
-    ContactPairSettings cs;
-    cs.name = "c";
-    cs.master = "lower_ymax";
-    cs.slave = "upper_ymin";
-    cs.discretization = "mortar";
-    cs.method = "nitsche";
-    cs.nitsche_theta = theta;
-    ContactInterface pair(cs, mesh, as, 100.0, false);
+    ContactInterface pair(nitsche_pair("mortar", theta), mesh, as, 100.0, false);
     pair.set_boundary_traction(&traction);
     VecX z = VecX::Zero(dofs.num_dofs());
     for (Index n : mesh.node_sets.at("upper_domain")) z(dofs.dof(n, 1)) = -0.02;
