@@ -34,7 +34,7 @@ namespace {
 // One point of facet f at parameters xi with rule weight `weight`: N, N~, the weight times the
 // reference area element (thickness, 2 pi r) and the unit reference normal.
 void add_point(IntegrationFacet& f, const std::vector<Vec3>& X, int dim, bool axisymmetric, Real thickness,
-               const VecX& xi, Real weight) {
+               const Vec3& xi, Real weight) {
   const int n = element_info(f.type).num_nodes;
   VecX N, Ntq;
   MatX dN;
@@ -91,9 +91,9 @@ IntegrationFacet integration_facet_at(const IntegrationFacet& f, const std::vect
   g.nodes = f.nodes;
   g.dual = f.dual;
   g.area = f.area;
-  const int pd = element_info(f.type).dim;
+  // The facet's parameters (2D: xi[q](1) is 0), as the Vec3 the shape functions take.
   for (size_t q = 0; q < xi.size(); ++q) {
-    add_point(g, X, dim, axisymmetric, thickness, xi[q].head(pd), weight[q]);
+    add_point(g, X, dim, axisymmetric, thickness, Vec3(xi[q](0), xi[q](1), 0), weight[q]);
     g.phi.push_back(g.dual * g.Nt.back());
   }
   return g;
