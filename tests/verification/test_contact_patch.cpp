@@ -250,15 +250,23 @@ TEST(ContactPatch, TwoPassPenaltyReported) {
 // et al. 2010). Penalty, reported: its uniform penetration g = -p/eps enters the weighted
 // gap's variation through the slave's current length, a tangential force of order p g at the
 // punch's ends (measured: sigma_yy within 0.2 % of p, nodal pressures spread by 0.05-0.3 %).
+// A punch and foundation pairing of the 2D patch and the punch's cells (3: non-matching).
+struct PatchPair {
+  ElementType punch, foundation;
+  int cells;
+};
+// The mortar patch tests' pairings: linear and quadratic facets on either side, and a finer punch.
+const std::vector<PatchPair>& mortar_patch_pairs() {
+  static const std::vector<PatchPair> pairs = {
+      {ElementType::quad4, ElementType::quad4, 3}, {ElementType::quad4, ElementType::quad4, 7},
+      {ElementType::quad9, ElementType::quad4, 3}, {ElementType::quad4, ElementType::quad9, 3},
+      {ElementType::quad8, ElementType::quad8, 3}};
+  return pairs;
+}
+
 TEST(ContactPatch, MortarIsExact) {
   const Real exx = 0.4 * 1.4 * 10 / 1000;
-  struct Case {
-    ElementType punch, foundation;
-    int cells;
-  };
-  for (const Case& k : {Case{ElementType::quad4, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad4, 7},
-                        Case{ElementType::quad9, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad9, 3},
-                        Case{ElementType::quad8, ElementType::quad8, 3}})
+  for (const PatchPair& k : mortar_patch_pairs())
     for (Real slide : {0.0, 2.0})
       for (const char* method : {"lagrange", "penalty"}) {
         if (slide > 0 && std::string(method) == "penalty") continue;
@@ -334,13 +342,7 @@ TEST(ContactPatch, NitscheCarriesTheUniformState) {
 // from the uniform state.
 TEST(ContactPatch, NitscheOnMortarIntegrationIsExact) {
   const Real exx = 0.4 * 1.4 * 10 / 1000;
-  struct Case {
-    ElementType punch, foundation;
-    int cells;
-  };
-  for (const Case& k : {Case{ElementType::quad4, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad4, 7},
-                        Case{ElementType::quad9, ElementType::quad4, 3}, Case{ElementType::quad4, ElementType::quad9, 3},
-                        Case{ElementType::quad8, ElementType::quad8, 3}})
+  for (const PatchPair& k : mortar_patch_pairs())
     for (Real slide : {0.0, 2.0})
       for (int theta : {1, 0, -1}) {
         const std::string what = std::string(element_info(k.punch).name) + " on " + element_info(k.foundation).name +
@@ -388,12 +390,9 @@ Real finite_patch_stretch() {
 // Coulomb friction (mu 0.3): the stretch to 1e-9, sigma_yy and the pressure 10 lx to 1e-8 of p.
 void check_finite_patch(const std::string& method, int theta) {
   const Real lx = finite_patch_stretch();
-  struct Case {
-    ElementType punch, foundation;
-    int cells;
-  };
-  for (const Case& k : {Case{ElementType::quad4, ElementType::quad4, 3}, Case{ElementType::quad9, ElementType::quad4, 3},
-                        Case{ElementType::quad8, ElementType::quad8, 3}})
+  for (const PatchPair& k : {PatchPair{ElementType::quad4, ElementType::quad4, 3},
+                             PatchPair{ElementType::quad9, ElementType::quad4, 3},
+                             PatchPair{ElementType::quad8, ElementType::quad8, 3}})
     for (auto [slide, mu] : {std::pair{0.0, 0.0}, std::pair{2.0, 0.0}, std::pair{0.0, 0.3}}) {
       const std::string what = method + ", " + element_info(k.punch).name + " on " + element_info(k.foundation).name +
                                " slide " + std::to_string(slide) + " mu " + std::to_string(mu);
