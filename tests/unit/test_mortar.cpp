@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <sstream>
 
 #include "signorini/contact/discretization/mortar.hpp"
+#include "signorini/core/error.hpp"
 
 using namespace signorini;
 
@@ -253,4 +256,52 @@ TEST(Mortar, SlipCombinationMeasuresTheRelativeMotion) {
       }
     }
   }
+}
+
+TEST(Mortar, FacetResultCrossesBetweenRanksBitForBit) {
+  // A shared-out build (Discretization::set_rank_exchange) sends each facet's result to the other
+  // ranks as bytes: read back, every field is the one written, bit for bit (the ranks then go on
+  // with the same constraints), with its Hessians and the friction's combinations; bytes cut
+  // short are an error, not a silently shorter result.
+  TwoCurves c(4, 7, 0.013, wavy_slave, wavy_master, 2);
+  std::vector<Index> all(static_cast<size_t>(c.master.size()));
+  for (Index m = 0; m < c.master.size(); ++m) all[m] = m;
+  std::ostringstream os;
+  std::vector<MortarFacetResult> written;
+  for (Index e = 0; e < c.slave.size(); ++e) {
+    written.push_back(mortar_element_2d(c.slave, e, c.master, all, c.x, MortarMeasure{}, true));
+    write_facet_result(os, written.back());
+  }
+  written.push_back(MortarFacetResult{});  // no overlap, empty fields
+  write_facet_result(os, written.back());
+  const std::string bytes = os.str();
+  std::istringstream is(bytes);
+  for (const MortarFacetResult& w : written) {
+    const MortarFacetResult r = read_facet_result(is);
+    EXPECT_EQ(r.overlap, w.overlap);
+    EXPECT_EQ(r.masters, w.masters);
+    EXPECT_EQ(r.facet, w.facet);
+    EXPECT_EQ(std::memcmp(&r.segment_length, &w.segment_length, sizeof(Real)), 0);
+    EXPECT_EQ(r.nodes, w.nodes);
+    EXPECT_EQ(r.gap, w.gap);
+    EXPECT_EQ(r.slip_weight, w.slip_weight);
+    ASSERT_EQ(r.grad.size(), w.grad.size());
+    ASSERT_EQ(r.hess.size(), w.hess.size());
+    ASSERT_EQ(r.relative.size(), w.relative.size());
+    for (size_t k = 0; k < w.grad.size(); ++k) EXPECT_TRUE(r.grad[k] == w.grad[k]) << k;
+    for (size_t k = 0; k < w.hess.size(); ++k) {
+      ASSERT_EQ(r.hess[k].rows(), w.hess[k].rows());
+      ASSERT_EQ(r.hess[k].cols(), w.hess[k].cols());
+      EXPECT_TRUE(r.hess[k] == w.hess[k]) << k;
+    }
+    for (size_t k = 0; k < w.relative.size(); ++k) EXPECT_TRUE(r.relative[k] == w.relative[k]) << k;
+  }
+  EXPECT_EQ(is.peek(), std::char_traits<char>::eof());
+  ASSERT_TRUE(written[1].overlap && !written[1].hess.empty() && written[1].hess[0].size() > 0);
+  std::istringstream cut(bytes.substr(0, bytes.size() / 3));
+  EXPECT_THROW(
+      {
+        for (size_t i = 0; i < written.size(); ++i) read_facet_result(cut);
+      },
+      Error);
 }

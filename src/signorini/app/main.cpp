@@ -111,6 +111,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   fmt::print("  unknowns   {} DOFs, {} threads{}\n", analysis.dofs().num_dofs(), omp_get_max_threads(),
              ranks > 1 ? fmt::format(" per rank, {} MPI ranks", ranks) : std::string());
   if (ranks > 1) fmt::print("  algebra    {}\n", analysis.algebra());
+  if (ranks > 1 && !analysis.contacts().empty()) fmt::print("  contact    {}\n", analysis.contact_evaluation());
   std::fflush(stdout);
   writer.write_initial(analysis);
   install_interrupt_handlers();

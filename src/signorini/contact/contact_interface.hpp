@@ -86,6 +86,10 @@ class ContactInterface {
     return enforcement_->full_steps() && (enforcement_->uses_multipliers() || !frictional());
   }
   void set_boundary_traction(const BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
+  // Several MPI ranks (null: one process): the discretization may share its evaluation out
+  // (Discretization::set_rank_exchange); the exchange outlives the pair.
+  void set_rank_exchange(const RankExchange* r) { discretization_->set_rank_exchange(r); }
+  bool shares_evaluation() const { return discretization_->shares_out(); }
   // Nitsche: the integration points of the last assembly (null for other methods).
   const std::vector<PointConstraint>* integration_points() const { return discretization_->integration_points(); }
   // Global search at positions x; max_step bounds the motion expected before the next search.

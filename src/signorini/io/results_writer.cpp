@@ -518,6 +518,7 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   j += fmt::format("  \"peak_memory_mib\": {},\n", json_number(log::peak_memory_mib()));
   if (a.first_step() > 0) j += fmt::format("  \"restarted_after_step\": {},\n", a.first_step());
   j += fmt::format("  \"algebra\": \"{}\",\n", json_escape(a.algebra()));
+  j += fmt::format("  \"contact_evaluation\": \"{}\",\n", json_escape(a.contact_evaluation()));
   j += fmt::format("  \"mpi_ranks\": {},\n  \"linear\": {{\"type\": \"{}\", \"rtol\": {}, \"options\": \"{}\"}},\n",
                    parallel_ranks(), m.linear_solver.type, json_number(m.linear_solver.rtol),
                    json_escape(m.linear_solver.options));

@@ -163,6 +163,11 @@ Analysis::Analysis(Model& model)
       symmetric_ = symmetric_ && ci->symmetric();
       contacts_.push_back(std::move(ci));
     }
+#ifdef SIGNORINI_HAVE_PETSC
+  // Several MPI ranks: mortar shares its slave facets' integration out over them.
+  if (!contacts_.empty()) rank_exchange_ = make_rank_exchange();
+  for (auto& c : contacts_) c->set_rank_exchange(rank_exchange_.get());
+#endif
   // Nitsche's method: the deformable bodies' cells give the pressure at the slave facets.
   for (auto& c : contacts_)
     if (c->needs_boundary_traction()) {
@@ -282,6 +287,20 @@ void Analysis::choose_algebra() {
                          "cells shared out by {})",
                          ranks, model_.linear_solver.partition == "ptscotch" ? "PT-Scotch" : "coordinate bisection");
 #endif
+}
+
+std::string Analysis::contact_evaluation() const {
+  if (contacts_.empty()) return "no contact pair";
+  if (!rank_exchange_) return "one process";
+  std::vector<std::string> shared;
+  for (const auto& c : contacts_)
+    if (c->shares_evaluation()) shared.push_back(c->label());
+  const int ranks = rank_exchange_->size();
+  if (shared.empty()) return fmt::format("every pair evaluated whole on each of the {} ranks", ranks);
+  return fmt::format("mortar's slave facets dealt out to the {} ranks, each integrating its share (pair{} {}); "
+                     "{}the constraints then the same on every rank",
+                     ranks, shared.size() > 1 ? "s" : "", fmt::join(shared, ", "),
+                     shared.size() < contacts_.size() ? "the other pairs evaluated whole on each rank; " : "");
 }
 
 bool Analysis::symmetric_solves() const {

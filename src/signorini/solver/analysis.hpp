@@ -11,6 +11,7 @@
 
 #include "signorini/contact/contact_interface.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/core/rank_exchange.hpp"
 #include "signorini/fem/boundary_traction.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
@@ -100,6 +101,10 @@ class Analysis {
   const DofMap& dofs() const { return dofs_; }
   // How the algebra is shared between MPI ranks: "serial", or a sentence (main prints it).
   const std::string& algebra() const { return algebra_; }
+  // How the ranks share the contact evaluation out (summary.json; the log under mpirun):
+  // "no contact pair", "one process", or with several ranks which pairs' evaluation each rank
+  // does a share of.
+  std::string contact_evaluation() const;
   // Partitioned assembly under mpirun: this rank, the number of ranks, and per block of body
   // `b` the cells this rank owns (null when the cells are not shared out: one rank, or the
   // algebra replicated).
@@ -271,6 +276,7 @@ class Analysis {
   const std::vector<Load>* current_loads_ = nullptr;
   std::vector<FacetLoad> facet_loads_cache_;
   int step_ = 0;
+  std::unique_ptr<RankExchange> rank_exchange_;  // several MPI ranks: their exchange (null: one process)
   std::vector<std::unique_ptr<ContactInterface>> contacts_;
   std::unique_ptr<BoundaryTraction> boundary_traction_;  // Nitsche's method: the bodies' stress at their boundary
   std::vector<QuadratureHistory> history_;  // per body: the material's internal variables

@@ -15,6 +15,7 @@
 
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/core/rank_exchange.hpp"
 #include "signorini/solver/backend.hpp"
 
 namespace signorini {
@@ -1424,6 +1425,46 @@ std::unique_ptr<LinearSolver> make_petsc_solver(const LinearSolverSettings& sett
 
 std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& settings) {
   return std::make_unique<PetscBackend>(settings);
+}
+
+namespace {
+class MpiRankExchange final : public RankExchange {
+ public:
+  MpiRankExchange() {
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size_);
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  std::vector<std::string> allgather(const std::string& mine) const override {
+    // The counts first, then the bytes (int counts: a rank's share stays far below 2 GB).
+    if (mine.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
+      throw SolverError(fmt::format("rank {}: {} bytes to share with the other ranks, more than MPI's counts take",
+                                    rank_, mine.size()));
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(size_), offsets(size_ + 1, 0);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+    for (int r = 0; r < size_; ++r) {
+      if (offsets[r] > std::numeric_limits<int>::max() - counts[r])
+        throw SolverError("the ranks' shares together exceed MPI's counts (2 GB)");
+      offsets[r + 1] = offsets[r] + counts[r];
+    }
+    std::string all(static_cast<size_t>(offsets[size_]), '\0');
+    MPI_Allgatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), offsets.data(), MPI_CHAR,
+                   PETSC_COMM_WORLD);
+    std::vector<std::string> out(size_);
+    for (int r = 0; r < size_; ++r) out[r] = all.substr(offsets[r], counts[r]);
+    return out;
+  }
+
+ private:
+  int rank_ = 0, size_ = 1;
+};
+}  // namespace
+
+std::unique_ptr<RankExchange> make_rank_exchange() {
+  if (petsc_world_size() <= 1) return nullptr;
+  return std::make_unique<MpiRankExchange>();
 }
 
 int petsc_max_over_ranks(int value) {

@@ -43,5 +43,9 @@ MpiInfo start_petsc_if_launched_by_mpi();
 int petsc_max_over_ranks(int value);
 // Ranks of PETSC_COMM_WORLD (1 before PETSc starts).
 int petsc_world_size();
+// The ranks' exchange of shared-out work over PETSC_COMM_WORLD (core/rank_exchange.hpp); null
+// with one rank.
+class RankExchange;
+std::unique_ptr<RankExchange> make_rank_exchange();
 
 }  // namespace signorini

@@ -5,14 +5,20 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "signorini/contact/discretization/mortar.hpp"
 #include "signorini/contact/discretization/node_to_segment.hpp"
 #include "signorini/contact/discretization/segment_to_segment.hpp"
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/contact/search/search.hpp"
+#include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/core/rank_exchange.hpp"
 #include "signorini/fem/boundary_traction.hpp"
 
 namespace signorini {
@@ -586,6 +592,7 @@ class Mortar final : public DeformableMaster {
     }
   }
   std::string name() const override { return self_ ? "self_mortar" : "mortar"; }
+  bool shares_out() const override { return true; }
   // On quadratic slave facets in 3D a uniform pressure gives the corner nodes of tri6 and quad8
   // no or negative nodal force (int N_corner dA <= 0): the reported pressure is then the
   // multiplier, the dual pressure's nodal value (the coefficient of N~_j, as the gap), per
@@ -627,17 +634,29 @@ class Mortar final : public DeformableMaster {
     std::vector<std::vector<Index>> facet(ne);
     const bool overlaps = dim_ == 3 && !self_;
     if (overlaps) coupled_masters_.resize(ne);
+    // Under MPI the facets with candidates are dealt out to the ranks in turn (a contact zone's
+    // facets are neighbours: dealing keeps the shares even where blocks would not), each rank
+    // integrates its own, and the results are exchanged (collective: every rank calls build
+    // alike).
+    const int ranks = ranks_ ? ranks_->size() : 1, rank = ranks_ ? ranks_->rank() : 0;
+    std::vector<char> mine(ne, ranks == 1);
+    if (ranks > 1)
+      for (Index e = 0, k = 0; e < ne; ++e)
+        if (!candidates_[e].empty()) mine[e] = (k++ % ranks) == rank;
+    std::vector<std::vector<Index>> masters(ranks > 1 ? ne : 0);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (overlaps) coupled_masters_[e].clear();
-      if (candidates_[e].empty()) continue;
+      if (candidates_[e].empty() || !mine[e]) continue;
       MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
                                       : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
       if (overlaps) set_coupled_masters(e, r.masters);
+      if (ranks > 1) masters[e] = r.masters;
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));
     }
+    if (ranks > 1) exchange_results(mine, masters, results, facet);
     gather(slave_facets_, index_, results, facet, out);
     // Friction's slip origin: each node's weighted relative position gathered over its facets'
     // segments, divided by its weight there (an average of x_s - x_m(chi) with N~_j), as a
@@ -777,6 +796,39 @@ class Mortar final : public DeformableMaster {
   // masters coupled_nodes couples to; written by detect and build (const: a cache of its
   // result, one facet per thread).
   mutable std::vector<std::vector<Index>> coupled_masters_;
+  // A shared-out build: each rank's facets (`mine`: their overlapping masters and results) sent
+  // to every rank, and the other ranks' received into `results`, `facet` and coupled_masters_,
+  // as the facets' loop would have filled them.
+  void exchange_results(const std::vector<char>& mine, const std::vector<std::vector<Index>>& masters,
+                        std::vector<std::vector<MortarFacetResult>>& results,
+                        std::vector<std::vector<Index>>& facet) const {
+    std::ostringstream os;
+    const Index ne = slave_facets_.size();
+    for (Index e = 0; e < ne; ++e) {
+      if (!mine[e] || candidates_[e].empty()) continue;
+      binary::put<std::int64_t>(os, e);
+      binary::put_vector(os, masters[e]);
+      binary::put<std::int64_t>(os, static_cast<std::int64_t>(results[e].size()));
+      for (const MortarFacetResult& r : results[e]) write_facet_result(os, r);
+    }
+    const std::vector<std::string> all = ranks_->allgather(os.str());
+    for (int q = 0; q < ranks_->size(); ++q) {
+      if (q == ranks_->rank()) continue;
+      std::istringstream is(all[q]);
+      while (is.peek() != std::char_traits<char>::eof()) {
+        const auto e = binary::get<std::int64_t>(is);
+        if (e < 0 || e >= ne || mine[e]) throw SolverError(fmt::format("mortar: rank {} sent slave facet {} of {}", q, e, ne));
+        const std::vector<Index> overlap = binary::get_vector<Index>(is, -1, "mortar facet masters");
+        if (dim_ == 3 && !self_) set_coupled_masters(e, overlap);
+        const auto n = binary::get<std::int64_t>(is);
+        for (std::int64_t i = 0; i < n; ++i) {
+          MortarFacetResult r = read_facet_result(is);
+          facet[e].push_back(r.facet);
+          results[e].push_back(std::move(r));
+        }
+      }
+    }
+  }
   void set_coupled_masters(Index e, const std::vector<Index>& overlap) const {
     std::set<Index> near;
     for (Index f : overlap)

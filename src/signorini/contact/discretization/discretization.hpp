@@ -31,6 +31,7 @@ struct SlipOrigin {
 };
 
 class BoundaryTraction;
+class RankExchange;
 
 class Discretization {
  public:
@@ -87,9 +88,17 @@ class Discretization {
   // on in the last build (at the start of the increment); the points of later builds then
   // carry their slip from it (PointConstraint::has_slip). Others: nothing.
   virtual void set_point_origins() {}
+  // Several MPI ranks running alike (core/rank_exchange.hpp; null: one process): mortar shares
+  // its slave facets' integration out over them, each rank integrating its share and every rank
+  // receiving the others' results, so that the constraints are the same bytes on every rank.
+  // The others evaluate every slave node on every rank.
+  void set_rank_exchange(const RankExchange* r) { ranks_ = r; }
+  // Whether build shares its work out over the ranks of a set exchange.
+  virtual bool shares_out() const { return false; }
 
  protected:
   bool second_variation_ = true;
+  const RankExchange* ranks_ = nullptr;
 };
 
 // The discretization the settings name (a rigid obstacle when s.rigid), for the given slave

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "signorini/contact/geometry/hyper_dual.hpp"
+#include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/fem/quadrature.hpp"
 
@@ -584,6 +585,76 @@ void mortar_nodal_normal_2d(const MasterSurface& slave, Index node, const std::v
   jacobian.resize(2, cols);
   jacobian.row(0) = n.x.g.head(cols).transpose();
   jacobian.row(1) = n.y.g.head(cols).transpose();
+}
+
+namespace {
+template <class M>
+void put_mat(std::ostream& os, const M& m) {
+  binary::put<std::int64_t>(os, m.rows());
+  binary::put<std::int64_t>(os, m.cols());
+  if (m.size() > 0) os.write(reinterpret_cast<const char*>(m.data()), static_cast<std::streamsize>(m.size() * sizeof(Real)));
+}
+MatX get_mat(std::istream& is) {
+  const auto rows = binary::get<std::int64_t>(is), cols = binary::get<std::int64_t>(is);
+  if (rows < 0 || cols < 0 || rows > 100000 || cols > 100000) throw Error("mortar facet result: corrupt matrix size");
+  MatX m(rows, cols);
+  if (m.size() > 0 && !is.read(reinterpret_cast<char*>(m.data()), static_cast<std::streamsize>(m.size() * sizeof(Real))))
+    throw Error("mortar facet result: the bytes end early");
+  return m;
+}
+template <class V>
+void put_vecs(std::ostream& os, const std::vector<V>& v) {
+  binary::put<std::int64_t>(os, static_cast<std::int64_t>(v.size()));
+  for (const V& x : v) put_mat(os, x);
+}
+template <class V>
+std::vector<V> get_vecs(std::istream& is) {
+  const auto n = binary::get<std::int64_t>(is);
+  if (n < 0 || n > 100000) throw Error("mortar facet result: corrupt count");
+  std::vector<V> v(static_cast<size_t>(n));
+  for (V& x : v) {
+    MatX m = get_mat(is);
+    if constexpr (std::is_same_v<V, VecX>) {
+      if (m.cols() != 1 && m.size() > 0) throw Error("mortar facet result: a vector with several columns");
+      x = Eigen::Map<const VecX>(m.data(), m.size());
+    } else {
+      x = std::move(m);
+    }
+  }
+  return v;
+}
+}  // namespace
+
+void write_facet_result(std::ostream& os, const MortarFacetResult& r) {
+  binary::put<char>(os, r.overlap ? 1 : 0);
+  binary::put_vector(os, r.masters);
+  binary::put<std::int64_t>(os, r.facet);
+  binary::put<Real>(os, r.segment_length);
+  binary::put_vector(os, r.nodes);
+  binary::put_vector(os, r.gap);
+  put_vecs(os, r.grad);
+  put_vecs(os, r.hess);
+  put_vecs(os, r.relative);
+  binary::put_vector(os, r.slip_weight);
+}
+
+MortarFacetResult read_facet_result(std::istream& is) {
+  try {
+    MortarFacetResult r;
+    r.overlap = binary::get<char>(is) != 0;
+    r.masters = binary::get_vector<Index>(is, -1, "mortar facet result");
+    r.facet = static_cast<Index>(binary::get<std::int64_t>(is));
+    r.segment_length = binary::get<Real>(is);
+    r.nodes = binary::get_vector<Index>(is, -1, "mortar facet result");
+    r.gap = binary::get_vector<Real>(is, -1, "mortar facet result");
+    r.grad = get_vecs<VecX>(is);
+    r.hess = get_vecs<MatX>(is);
+    r.relative = get_vecs<VecX>(is);
+    r.slip_weight = binary::get_vector<Real>(is, -1, "mortar facet result");
+    return r;
+  } catch (const Error& e) {
+    throw Error(std::string("mortar facet result from another rank: ") + e.what());
+  }
 }
 
 }  // namespace signorini

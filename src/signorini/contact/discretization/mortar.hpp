@@ -19,6 +19,7 @@
 // segmentation, of the normals and of the covered part (Popp et al. 2010, sec. 4, derive them by
 // hand). dA carries the thickness, or 2 pi r in an axisymmetric analysis.
 #pragma once
+#include <iosfwd>
 #include <vector>
 
 #include "signorini/contact/surface.hpp"
@@ -51,6 +52,12 @@ struct MortarFacetResult {
   std::vector<VecX> relative;
   std::vector<Real> slip_weight;
 };
+
+// A facet's result as bytes and back (the ranks' exchange of a shared-out build, core/
+// rank_exchange.hpp): read_facet_result gives back every field as written, bit for bit, and
+// throws Error on bytes that end early.
+void write_facet_result(std::ostream& os, const MortarFacetResult& r);
+MortarFacetResult read_facet_result(std::istream& is);
 
 // `slave`: the slave surface's facets (with node_facets, for the averaged normals); facet e of
 // it against the facets `masters` of `master`, at positions x. The dual basis is built on the
