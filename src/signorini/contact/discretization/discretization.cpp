@@ -643,7 +643,6 @@ class Mortar final : public DeformableMaster {
     if (ranks > 1)
       for (Index e = 0, k = 0; e < ne; ++e)
         if (!candidates_[e].empty()) mine[e] = (k++ % ranks) == rank;
-    std::vector<std::vector<Index>> masters(ranks > 1 ? ne : 0);
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (overlaps) coupled_masters_[e].clear();
@@ -651,12 +650,11 @@ class Mortar final : public DeformableMaster {
       MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
                                       : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
       if (overlaps) set_coupled_masters(e, r.masters);
-      if (ranks > 1) masters[e] = r.masters;
       if (!r.overlap) continue;
       facet[e].push_back(r.facet);
       results[e].push_back(std::move(r));
     }
-    if (ranks > 1) exchange_results(mine, masters, results, facet);
+    if (ranks > 1) exchange_results(mine, results, facet);
     gather(slave_facets_, index_, results, facet, out);
     // Friction's slip origin: each node's weighted relative position gathered over its facets'
     // segments, divided by its weight there (an average of x_s - x_m(chi) with N~_j), as a
@@ -796,18 +794,18 @@ class Mortar final : public DeformableMaster {
   // masters coupled_nodes couples to; written by detect and build (const: a cache of its
   // result, one facet per thread).
   mutable std::vector<std::vector<Index>> coupled_masters_;
-  // A shared-out build: each rank's facets (`mine`: their overlapping masters and results) sent
-  // to every rank, and the other ranks' received into `results`, `facet` and coupled_masters_,
-  // as the facets' loop would have filled them.
-  void exchange_results(const std::vector<char>& mine, const std::vector<std::vector<Index>>& masters,
-                        std::vector<std::vector<MortarFacetResult>>& results,
+  // A shared-out build: each rank's facets (`mine`: their coupled masters and results) sent to
+  // every rank, and the other ranks' received into `results`, `facet` and coupled_masters_, as
+  // the facets' loop would have filled them.
+  void exchange_results(const std::vector<char>& mine, std::vector<std::vector<MortarFacetResult>>& results,
                         std::vector<std::vector<Index>>& facet) const {
+    const bool overlaps = dim_ == 3 && !self_;
     std::ostringstream os;
     const Index ne = slave_facets_.size();
     for (Index e = 0; e < ne; ++e) {
-      if (!mine[e] || candidates_[e].empty()) continue;
+      if (!mine[e]) continue;
       binary::put<std::int64_t>(os, e);
-      binary::put_vector(os, masters[e]);
+      binary::put_vector(os, overlaps ? coupled_masters_[e] : std::vector<Index>{});
       binary::put<std::int64_t>(os, static_cast<std::int64_t>(results[e].size()));
       for (const MortarFacetResult& r : results[e]) write_facet_result(os, r);
     }
@@ -818,8 +816,8 @@ class Mortar final : public DeformableMaster {
       while (is.peek() != std::char_traits<char>::eof()) {
         const auto e = binary::get<std::int64_t>(is);
         if (e < 0 || e >= ne || mine[e]) throw SolverError(fmt::format("mortar: rank {} sent slave facet {} of {}", q, e, ne));
-        const std::vector<Index> overlap = binary::get_vector<Index>(is, -1, "mortar facet masters");
-        if (dim_ == 3 && !self_) set_coupled_masters(e, overlap);
+        std::vector<Index> coupled = binary::get_vector<Index>(is, -1, "mortar facet masters");
+        if (overlaps) coupled_masters_[e] = std::move(coupled);
         const auto n = binary::get<std::int64_t>(is);
         for (std::int64_t i = 0; i < n; ++i) {
           MortarFacetResult r = read_facet_result(is);
