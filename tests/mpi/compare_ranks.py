@@ -7,6 +7,7 @@ for its own cells only) must agree too, to `tolerance` relative to each field's 
 With ALGEBRA ("partitioned" or "replicated"), summary.json must say that the N ranks shared the
 algebra that way.
 With PARTITION (rcb or ptscotch), the N ranks share the cells out that way (solver.linear.partition).
+COMPARE_DECK_EDIT ("old=>new|..."), COMPARE_RESIDUAL_TOLERANCE: see below.
 LINEAR "auto" leaves the choice to the solver, which under mpirun must pick mumps (the example
 being below the default iterative_above); "auto@K" sets iterative_above K, below the example's
 unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
@@ -40,6 +41,12 @@ extra = ", iterative_above: %s" % iterative_above if iterative_above else ""
 newton = os.environ.get("COMPARE_RESIDUAL_TOLERANCE")
 newton = ", residual_tolerance: %s" % newton if newton else ""
 text += "\nsolver: {linear: {type: %s, rtol: 1e-10, partition: %s%s}%s}\n" % (linear_type, partition, extra, newton)
+# COMPARE_DECK_EDIT: "old=>new|old=>new": text replaced in the deck (each must be found; \\n in
+# either is a line break), to run a shipped example with another discretization or enforcement.
+for edit in filter(None, os.environ.get("COMPARE_DECK_EDIT", "").split("|")):
+    old, new = (part.replace("\\n", "\n") for part in edit.split("=>"))
+    assert old in text, "COMPARE_DECK_EDIT: %r is not in %s" % (old, deck)
+    text = text.replace(old, new)
 copy = os.path.join(work, "deck.yaml")
 with open(copy, "w") as f:
     f.write(text)
@@ -80,7 +87,8 @@ expected_method = {"gamg": ", gamg (", "hypre": ", hypre (", "mumps": "(mumps)"}
 assert all(m and expected_method in m for m in methods), "linear_method %s for %s" % (methods, many["linear"]["type"])
 # Mortar's slave facets are dealt out to the ranks, each integrating its share (the checks and
 # fields below then show that the exchanged constraints are the one-process ones); other pairs
-# are evaluated whole on every rank.
+# (segment_to_segment, and Nitsche's method on either: the same class) are evaluated whole on
+# every rank.
 mortar = re.search(r"discretization: mortar", text) is not None and "nitsche" not in text
 assert one["contact_evaluation"] in ("one process", "no contact pair"), one["contact_evaluation"]
 if mortar:
