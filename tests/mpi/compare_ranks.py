@@ -42,7 +42,8 @@ newton = os.environ.get("COMPARE_RESIDUAL_TOLERANCE")
 newton = ", residual_tolerance: %s" % newton if newton else ""
 text += "\nsolver: {linear: {type: %s, rtol: 1e-10, partition: %s%s}%s}\n" % (linear_type, partition, extra, newton)
 # COMPARE_DECK_EDIT: "old=>new|old=>new": text replaced in the deck (each must be found; a
-# backslash-n in either is a line break), to run a shipped example with another discretization or enforcement.
+# backslash-n in either is a line break), to run a shipped example with another discretization
+# or enforcement.
 for edit in filter(None, os.environ.get("COMPARE_DECK_EDIT", "").split("|")):
     old, new = (part.replace("\\n", "\n") for part in edit.split("=>"))
     assert old in text, "COMPARE_DECK_EDIT: %r is not in %s" % (old, deck)
