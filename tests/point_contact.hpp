@@ -20,6 +20,7 @@ struct SphereCase {
   Real stress = 1;     // and moduli times this (length^2 * stress = 1 keeps the force)
   Real hc = 0.035;     // the element size at the contact
   int order = 0;       // > 0: the mesh raised to this order (2: tet10)
+  std::string solver;  // a `solver` map's entries for the deck, e.g. "residual_growth: 2" (none if empty)
 };
 
 struct SphereResult {
@@ -39,6 +40,7 @@ inline SphereResult run_sphere(const SphereCase& c) {
   replace_in_text(deck, "E: 1.40625e7", fmt::format("E: {:.17g}", 1.40625e7 * c.stress));
   replace_in_text(deck, "force: [0, 0, -2500]", fmt::format("force: [0, 0, {:.17g}]", -2500 * c.load));
   replace_in_text(deck, "    slave: SphereSurface\n", "    slave: SphereSurface\n" + c.pair);
+  if (!c.solver.empty()) deck += "solver: {" + c.solver + "}\n";
   SphereResult out;
   out.run = run_deck_text(deck, "point_contact");
   if (out.run.checks.size() == 3) {

@@ -121,3 +121,17 @@ TEST(LongIroning, FrictionalWithoutStabilizationCompletesWithinThePublishedSprea
   EXPECT_EQ(s.largest_ratio, 0.0);
   EXPECT_GT(s.continued, 0) << "the onset of gross sliding is a limit point: crossed by continuation";
 }
+
+// With mortar (shallow_ironing_mortar.yaml: the indenter's arc and sides the slave, the slab's
+// faceted top the master, Lagrange multipliers, no smoothing, no stabilization), issue 14's
+// variant: it completes without stabilization and without pseudo-transient continuation, within
+// the published spread. The issue asks for at most 6 Newton iterations per increment on
+// average over the 500; measured 6.8 per converged increment (docs/validation.md), so the bound
+// here is a guard against regressions, not the target.
+TEST(LongIroning, FrictionalMortarCompletesWithinThePublishedSpread) {
+  const IroningRun r = run_ironing("shallow_ironing_mortar.yaml", "signorini_long_ironing_mortar");
+  const Sliding s = check_published_spread(r, "ironing, mu = 0.3, mortar");
+  EXPECT_EQ(s.largest_ratio, 0.0);
+  EXPECT_EQ(s.continued, 0) << "no increment should need pseudo-transient continuation";
+  EXPECT_LT(double(s.iterations) / std::max(s.increments, 1), 8.0);
+}

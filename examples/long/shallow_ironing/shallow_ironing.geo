@@ -37,4 +37,4 @@ Physical Curve("SlabBottom") = {1};
 Physical Curve("SlabTop") = {3};
 Physical Curve("IndenterArc") = {11};
 Physical Curve("IndenterTop") = {13};
-Physical Curve("IndenterSurface") = {14, 11, 12};  // the arc and both sides (master variant)
+Physical Curve("IndenterSurface") = {14, 11, 12};  // the arc and both sides (master, or mortar slave)

@@ -924,6 +924,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
   ns.energy_tolerance = n.number(spec, "energy_tolerance");
   ns.line_search = n.has("line_search") ? n.child("line_search").as_bool() : true;
   ns.penetration_step = n.number(spec, "penetration_step");
+  ns.residual_growth = n.number(spec, "residual_growth");
   ns.predictor = n.has("predictor") ? n.child("predictor").as_bool() : true;
   ns.condense_contact = n.has("condense_contact") ? n.child("condense_contact").as_bool() : true;
   ns.cutback_factor = n.number(spec, "cutback_factor");

@@ -455,6 +455,10 @@ void register_deck_sections(Registry& r) {
                  "contact with Lagrange multipliers or Nitsche: a Newton step that would push an open slave node "
                  "deeper than this many of its facet sizes into its master is shortened to about that (0: no limit)",
                  "0.5", 0),
+          number("residual_growth",
+                 "contact with Lagrange multipliers or Nitsche: a Newton step (otherwise full) that would raise the "
+                 "residual norm more than this factor is halved, at most six times (0: off)",
+                 "0", 0),
           text("condense_contact",
                "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
                "one DOF of its slave node; rows that couple several slave nodes, segment_to_segment and mortar, "

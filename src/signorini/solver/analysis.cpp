@@ -1055,7 +1055,20 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
         continue;
       }
     }
-    if (!ok && limits > 0 && ls < 6) {  // a limited step that cannot be evaluated: shorter still
+    // A step that cannot be evaluated (an element turned inside out) is shortened, also where the
+    // steps are otherwise full (the multipliers' semi-smooth Newton method): the state it would
+    // reach has no meaning, and a shorter step in the same direction keeps the iteration going
+    // where a failure would cut the increment back.
+    if (!ok && ls < 6 && ptc_shift_ == 0) {  // (pseudo-transient continuation rejects the step instead)
+      alpha *= 0.5;
+      continue;
+    }
+    // Residual growth limit (`residual_growth`, Lagrange multipliers and Nitsche, whose steps
+    // are otherwise full): the residual norm is no merit function of the semi-smooth method, whose
+    // active-set updates may raise it, so a step is accepted unless it raises the norm more
+    // than that factor; then it is halved, at most six times (the sixth halving is taken).
+    if (ok && !search && ns.residual_growth > 0 && ptc_shift_ == 0 && new_norm > ns.residual_growth * rnorm &&
+        ls < 6) {
       alpha *= 0.5;
       continue;
     }
