@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -977,19 +978,29 @@ class SegmentToSegment final : public DeformableMaster {
     std::vector<std::vector<Index>> facet(ne);
     std::vector<std::vector<PointConstraint>> points(traction_ ? ne : 0);
     held_.resize(ne);
+    // An exception may not leave an OpenMP region (std::terminate): the first one thrown in the
+    // loop (Nitsche's slave stress at an inverted cell, a SolverError the Newton iteration
+    // answers by shortening its step) is kept and rethrown after it.
+    std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
-      IntegrationResult r;
-      std::vector<IntegrationPointGap> pg;
-      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, traction_ ? &pg : nullptr,
-                             &held_[e]);
-      hits_[e] = r.hit;
-      if (r.points == 0) continue;
-      if (traction_) nitsche_points(e, r, pg, x, points[e]);
-      facet[e].push_back(r.first_facet);
-      results[e].push_back(std::move(r));
+      try {
+        IntegrationResult r;
+        std::vector<IntegrationPointGap> pg;
+        integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, traction_ ? &pg : nullptr,
+                               &held_[e]);
+        hits_[e] = r.hit;
+        if (r.points == 0) continue;
+        if (traction_) nitsche_points(e, r, pg, x, points[e]);
+        facet[e].push_back(r.first_facet);
+        results[e].push_back(std::move(r));
+      } catch (...) {
+#pragma omp critical(segment_to_segment_error)
+        if (!error) error = std::current_exception();
+      }
     }
+    if (error) std::rethrow_exception(error);
     if (traction_) {
       points_.clear();
       for (auto& v : points)
