@@ -98,8 +98,8 @@ struct NewtonSettings {
   // facet sizes (Lagrange multipliers and Nitsche; 0: no limit). Analysis::line_search.
   Real penetration_step = 0.5;
   // The full steps of the semi-smooth Newton method (Lagrange multipliers, Nitsche): a step
-  // that would raise the residual norm more than this factor is halved, at most six times
-  // (0: off). Analysis::line_search.
+  // that would raise the residual norm more than this factor, or that inverts an element, is
+  // halved, at most six times (0: off). Analysis::line_search.
   Real residual_growth = 0;
   bool predictor = true;              // extrapolate the last increment's displacement
   bool condense_contact = true;       // eliminate contact multipliers from the linear solve

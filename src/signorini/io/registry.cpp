@@ -457,7 +457,7 @@ void register_deck_sections(Registry& r) {
                  "0.5", 0),
           number("residual_growth",
                  "contact with Lagrange multipliers or Nitsche: a Newton step (otherwise full) that would raise the "
-                 "residual norm more than this factor is halved, at most six times (0: off)",
+                 "residual norm more than this factor, or that inverts an element, is halved, at most six times (0: off)",
                  "0", 0),
           text("condense_contact",
                "solve Lagrange-multiplier contact systems without the multipliers (each closed constraint eliminates "
