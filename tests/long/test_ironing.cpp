@@ -128,8 +128,9 @@ TEST(LongIroning, FrictionalWithoutStabilizationCompletesWithinThePublishedSprea
 // faceted top the master, Lagrange multipliers, no smoothing, no stabilization), issue 14's
 // variant: it completes without stabilization and without pseudo-transient continuation, within
 // the published spread. The issue asks for at most 6 Newton iterations per increment on
-// average over the 500; measured 6.8 per converged increment (docs/validation.md), so the bound
-// here is a guard against regressions, not the target.
+// average over the 500: measured 5.82 per converged sliding increment, 6.15 counting the failed
+// attempts' iterations (docs/validation.md); the bound of 8 here guards against regressions, with
+// room for the cutbacks that round-off may move.
 TEST(LongIroning, FrictionalMortarCompletesWithinThePublishedSpread) {
   const IroningRun r = run_ironing("shallow_ironing_mortar.yaml", "signorini_long_ironing_mortar");
   const Sliding s = check_published_spread(r, "ironing, mu = 0.3, mortar");
