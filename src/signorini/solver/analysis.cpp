@@ -1078,7 +1078,10 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
     }
     if (ok && (!search || new_norm <= (1 - 1e-4 * alpha) * rnorm || ls >= 6)) break;
     if (!search || ls >= 6) {
-      if (!ok) throw SolverError("non-physical state even with a short step: " + why);
+      if (!ok)
+        throw SolverError((alpha < 1 ? "non-physical state even with a short step: "
+                                     : "non-physical state after a full Newton step: ") +
+                          why);
       break;
     }
     alpha *= 0.5;
