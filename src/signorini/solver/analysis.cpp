@@ -1055,15 +1055,16 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
         continue;
       }
     }
-    // A step that cannot be evaluated (an element turned inside out) is shortened where the line
-    // search is on, after a penetration limit, and, with `residual_growth`, where the steps are
-    // otherwise full (the multipliers' semi-smooth Newton method): the state it would reach has no
+    // A step that cannot be evaluated (an element turned inside out) is shortened after a
+    // penetration limit and, with `residual_growth`, where the steps are otherwise full (the
+    // multipliers' semi-smooth Newton method; with the line search on, its backtracking below
+    // shortens it): the state it would reach has no
     // meaning, and a shorter step in the same direction keeps the iteration going where a
     // failure would cut the increment back. Not by default for full steps: from a halved step the
     // finite-strain Nitsche patch test on quad8 (ContactPatch.NitscheOnMortarIntegration...)
     // ended at another equilibrium accepted as stagnated, where the cutback finds the right one.
     // Pseudo-transient continuation rejects the step instead.
-    if (!ok && ls < 6 && ptc_shift_ == 0 && (search || limits > 0 || ns.residual_growth > 0)) {
+    if (!ok && ls < 6 && ptc_shift_ == 0 && (limits > 0 || ns.residual_growth > 0)) {
       alpha *= 0.5;
       continue;
     }
