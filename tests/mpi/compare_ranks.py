@@ -13,14 +13,14 @@ being below the default iterative_above); "auto@K" sets iterative_above K, below
 unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
 distributed backend condenses). summary.json's linear type says what was picked.
 Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
-import glob
 import json
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
+
+from vtu_fields import agree, fields
 
 signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
 expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
@@ -104,64 +104,8 @@ if expected_algebra:
         assert many["algebra"].endswith("cells shared out by %s)" % shared_by), many["algebra"]
 
 
-def read_vtu(path):
-    """The Float64 arrays of a .vtu (raw appended data, UInt64 headers): {name: (components, values)}."""
-    with open(path, "rb") as f:
-        data = f.read()
-    start = data.index(b'<AppendedData encoding="raw">')
-    head, blob = data[:start].decode(), data[data.index(b"_", start) + 1:]
-    out = {}
-    for m in re.finditer(r'<DataArray type="Float64" Name="([^"]+)" NumberOfComponents="(\d+)"[^>]*offset="(\d+)"', head):
-        name, comps, offset = m.group(1), int(m.group(2)), int(m.group(3))
-        if name == "Points":
-            continue
-        size = struct.unpack_from("<Q", blob, offset)[0]
-        out[name] = (comps, struct.unpack_from("<%dd" % (size // 8), blob, offset + 8))
-    return out
-
-
-def fields(folder):
-    """The point and cell fields of the folder's last increment, from its .vtu or from the pieces
-    its .pvtu joins, each point ordered by node_id and each cell by (body, cell_id), so that one
-    rank's file and N ranks' pieces compare entry by entry."""
-    joined = sorted(glob.glob(os.path.join(folder, "increment_*.pvtu")))
-    if joined:
-        with open(joined[-1]) as f:
-            paths = [os.path.join(folder, p) for p in re.findall(r'<Piece Source="([^"]+)"', f.read())]
-        assert len(paths) == ranks, "%s joins %d pieces, not %d" % (joined[-1], len(paths), ranks)
-    else:
-        paths = sorted(glob.glob(os.path.join(folder, "increment_*.vtu")))[-1:]
-    points, cells = {}, {}
-    names = None
-    for path in paths:
-        piece = read_vtu(path)
-        names = names or sorted(piece)
-        assert sorted(piece) == names, (path, sorted(piece), names)
-        n_points, n_cells = len(piece["node_id"][1]), len(piece["cell_id"][1])
-        for name, (comps, values) in piece.items():
-            if len(values) == comps * n_points:
-                for i, node in enumerate(piece["node_id"][1]):
-                    points.setdefault(name, {})[node] = values[i * comps:(i + 1) * comps]
-            else:
-                assert len(values) == comps * n_cells, (path, name)
-                for i, key in enumerate(zip(piece["body"][1], piece["cell_id"][1])):
-                    assert key not in cells.get(name, {}), "cell %s is in two pieces" % (key,)
-                    cells.setdefault(name, {})[key] = values[i * comps:(i + 1) * comps]
-    out = {}
-    for table in (points, cells):
-        for name, by_key in table.items():
-            out[name] = [v for key in sorted(by_key) for v in by_key[key]]
-    return out
-
-
-f1, f2 = fields(os.path.join(work, "np1")), fields(os.path.join(work, "np%d" % ranks))
-assert sorted(f1) == sorted(f2), (sorted(f1), sorted(f2))
-worst_field = 0.0
-for name in f1:
-    scale = max(max((abs(v) for v in f1[name]), default=0.0), 1e-300)
-    err = max((abs(a - b) for a, b in zip(f1[name], f2[name])), default=0.0) / scale
-    assert len(f1[name]) == len(f2[name]) and err <= tolerance, "field %s: %.2e apart" % (name, err)
-    worst_field = max(worst_field, err)
+f1, f2 = fields(os.path.join(work, "np1"), 1), fields(os.path.join(work, "np%d" % ranks), ranks)
+worst_field = agree(f1, f2, tolerance)
 print("%d fields of the last increment agree to %.1e" % (len(f1), worst_field))
 worst = 0.0
 for a, b in zip(one["checks"], many["checks"]):

@@ -86,3 +86,55 @@ TEST(History, InitialisedByTheMaterialWithItsNames) {
   }
   EXPECT_DOUBLE_EQ(sxx_sum(b, m, d, u, h), -10.0);  // each cell's mean s_xx = 5 x -1
 }
+
+// Partitioned over MPI ranks each rank holds its own cells' history (issue 15): the others'
+// values take no memory, assembling the held cells updates only them, the whole layout puts
+// zeros where another rank holds the values (so that a sum over the ranks is every cell's
+// owner's), a restart takes back the held cells' part, and a cell held elsewhere is an error.
+TEST(History, EachRankHoldsItsOwnCells) {
+  Mesh m = structured_rectangle(ElementType::quad4, 3, 1, 3, 1);
+  AnalysisSettings st;
+  Body b("b", m.regions["domain"], std::make_shared<CountingMaterial>(), st);
+  DofMap d(m.num_nodes(), 2, test::cells_of(b));
+  VecX u = VecX::Zero(d.num_dofs()), f = u;
+  QuadratureHistory whole(b), mine(b), theirs(b);
+  ASSERT_EQ(whole.whole_size(), 12);  // 3 cells x 4 points x 1 value
+  const std::vector<std::vector<char>> held{{1, 0, 1}}, others{{0, 1, 0}};
+  mine.hold_only(held);
+  theirs.hold_only(others);
+  EXPECT_EQ(mine.committed_values().size(), 8u);
+  EXPECT_EQ(theirs.committed_values().size(), 4u);
+  EXPECT_EQ(mine.whole_size(), 12);
+  EXPECT_TRUE(mine.holds(0, 0));
+  EXPECT_FALSE(mine.holds(0, 1));
+  EXPECT_THROW(mine.committed(0, 1), Error);
+  EXPECT_THROW(theirs.trial(0, 2), Error);
+  // Two increments of the whole body, and of each share on its cells.
+  for (int inc = 0; inc < 2; ++inc) {
+    b.assemble(m.nodes, u, d, f, nullptr, &whole);
+    b.assemble(m.nodes, u, d, f, nullptr, &mine, 0, &held);
+    b.assemble(m.nodes, u, d, f, nullptr, &theirs, 0, &others);
+    for (QuadratureHistory* h : {&whole, &mine, &theirs}) h->commit();
+  }
+  const std::vector<Real> w = whole.whole_committed(), a = mine.whole_committed(), c = theirs.whole_committed();
+  ASSERT_EQ(a.size(), w.size());
+  ASSERT_EQ(c.size(), w.size());
+  for (size_t k = 0; k < w.size(); ++k) {
+    EXPECT_EQ(w[k], 2);
+    const bool in_mine = k / 4 != 1;  // cell 1 is the other rank's
+    EXPECT_EQ(a[k], in_mine ? 2 : 0) << k;
+    EXPECT_EQ(c[k], in_mine ? 0 : 2) << k;
+    EXPECT_EQ(a[k] + c[k], w[k]) << k;
+  }
+  // The output of a share: its own cells from its history.
+  CellResults r = b.results(m.nodes, u, d, &mine, &held);
+  EXPECT_DOUBLE_EQ(r.stress[0](0), 2);
+  EXPECT_DOUBLE_EQ(r.stress[2](0), 2);
+  // A restart in the whole layout: each share keeps its cells' values.
+  std::vector<Real> restart(12);
+  for (size_t k = 0; k < restart.size(); ++k) restart[k] = static_cast<Real>(k);
+  mine.restore(restart);
+  EXPECT_EQ(mine.committed(0, 2)[0], 8);
+  EXPECT_EQ(mine.whole_committed(), (std::vector<Real>{0, 1, 2, 3, 0, 0, 0, 0, 8, 9, 10, 11}));
+  EXPECT_THROW(mine.restore(std::vector<Real>(11)), Error);
+}

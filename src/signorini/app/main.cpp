@@ -102,11 +102,11 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
                analysis.first_step() < static_cast<int>(model.steps.size()) ? model.steps[analysis.first_step()].name
                                                                               : std::string("(none left)"));
   }
-  if (model.output.restart == "every_step" && rank == 0)
-    analysis.on_step([&](const Analysis& a, int step) {
+  if (model.output.restart == "every_step")
+    analysis.on_step([&](const Analysis& a, int step) {  // every rank: it gathers the history
       const std::string path = fmt::format("{}/restart_{:04d}.bin", dir, step + 1);
       a.write_restart(path);
-      log::info("restart file {} written", path);
+      if (rank == 0) log::info("restart file {} written", path);
     });
   fmt::print("  unknowns   {} DOFs, {} threads{}\n", analysis.dofs().num_dofs(), omp_get_max_threads(),
              ranks > 1 ? fmt::format(" per rank, {} MPI ranks", ranks) : std::string());

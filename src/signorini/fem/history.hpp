@@ -28,28 +28,43 @@ class QuadratureHistory {
     return empty() ? nullptr : committed_.data() + offset(block, element);
   }
   Real* trial(size_t block, Index element) { return empty() ? nullptr : trial_.data() + offset(block, element); }
+  // Whether the values of cell `element` of block b are held here (all cells but after
+  // hold_only).
+  bool holds(size_t block, Index element) const {
+    return held_offset_.empty() || held_offset_[block][static_cast<size_t>(element)] >= 0;
+  }
   const std::vector<std::string>& names() const { return names_; }
 
   void commit() { committed_ = trial_; }  // the increment converged
   void revert() { trial_ = committed_; }  // the increment is cut back, or starts
+  // The values held here (after hold_only, only those of the held cells, in cell order).
   const std::vector<Real>& committed_values() const { return committed_; }
-  // Partitioned assembly: the trial values of the cells that this rank did not assemble set
-  // to zero (owned[block][element]), so that a sum over the ranks gives every cell its owner's.
-  void keep_cells(const std::vector<std::vector<char>>& owned) {
-    for (size_t b = 0; b < owned.size() && b < per_element_.size(); ++b)
-      for (Index e = 0; e < static_cast<Index>(owned[b].size()); ++e)
-        if (!owned[b][e]) std::fill_n(trial_.begin() + offset(b, e), per_element_[b], 0.0);
-  }
-  std::vector<Real>& trial_values() { return trial_; }
-  // A restart: the committed (and trial) state read back; the size must match.
-  void restore(const std::vector<Real>& committed) {
-    committed_ = trial_ = committed;
-  }
+
+  // Partitioned assembly over MPI ranks (issue 15): each rank keeps the history of its own
+  // cells only (held[block][element]); the others' values are dropped and take no memory, and
+  // asking for them is an error. Call once, before the first increment.
+  void hold_only(const std::vector<std::vector<char>>& held);
+  // The committed state in the layout of the whole body (every cell): the held cells' values,
+  // zeros elsewhere, so that a sum over the ranks gives every cell its owner's (a restart file).
+  std::vector<Real> whole_committed() const;
+  // The size of that layout.
+  Index whole_size() const { return whole_size_; }
+  // A restart: the committed (and trial) state read back in the whole layout (whole_size()
+  // values), of which the held cells' are kept.
+  void restore(const std::vector<Real>& whole);
 
  private:
-  Index offset(size_t block, Index element) const { return block_offset_[block] + element * per_element_[block]; }
+  Index offset(size_t block, Index element) const {
+    if (held_offset_.empty()) return block_offset_[block] + element * per_element_[block];
+    const Index k = held_offset_[block][static_cast<size_t>(element)];
+    if (k < 0) throw_not_held(block, element);
+    return k;
+  }
+  [[noreturn]] void throw_not_held(size_t block, Index element) const;
   int per_point_ = 0;
-  std::vector<Index> block_offset_, per_element_;
+  Index whole_size_ = 0;
+  std::vector<Index> block_offset_, per_element_, cells_;  // the whole layout
+  std::vector<std::vector<Index>> held_offset_;    // after hold_only: each cell's first value, -1 if not held
   std::vector<Real> committed_, trial_;
   std::vector<std::string> names_;
 };

@@ -378,6 +378,9 @@ void Analysis::rebuild_pattern() {
     }
     log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
                backend_->owned_begin(), backend_->owned_end());
+    // Each rank keeps the quadrature-point history of its own cells only: it alone updates
+    // them, and the output writes them in its piece (a restart file gathers them).
+    for (size_t i = 0; i < history_.size(); ++i) history_[i].hold_only(owned_cells_[i]);
   }
   if (!factor_assessed_) {  // once, on the first pattern
     factor_assessed_ = true;
@@ -1476,13 +1479,7 @@ AnalysisSummary Analysis::run_steps() {
       last_du_ = u_ - u_converged_;
       last_dl_ = dl;
       u_converged_ = u_;
-      if (!owned_cells_.empty())  // each cell's trial state from the rank that assembled it
-        for (size_t i = 0; i < history_.size(); ++i) {
-          if (history_[i].empty()) continue;
-          history_[i].keep_cells(owned_cells_[i]);
-          backend_->sum_over_ranks(history_[i].trial_values().data(), static_cast<Index>(history_[i].trial_values().size()));
-        }
-      for (auto& h : history_) h.commit();
+      for (auto& h : history_) h.commit();  // partitioned: each rank its own cells
       for (auto& c : contacts_) rec.contact.push_back(c->commit());
       report_contact_pressures();
       rec.fraction = lambda;
@@ -1544,10 +1541,23 @@ void Analysis::write_restart(const std::string& path) const {
   put_vec(os, last_du_);
   put<Real>(os, last_dl_);
   put<std::int64_t>(os, static_cast<std::int64_t>(history_.size()));
-  for (const auto& h : history_) put_vector(os, h.committed_values());
+  for (const auto& h : history_) {
+    // Partitioned over MPI ranks each rank holds its own cells' history: summed into the
+    // whole layout (zeros elsewhere, so every cell gets its owner's bits).
+    std::vector<Real> whole = h.whole_committed();
+    if (!owned_cells_.empty() && !whole.empty()) backend_->sum_over_ranks(whole.data(), static_cast<Index>(whole.size()));
+    put_vector(os, whole);
+  }
   put<std::int64_t>(os, static_cast<std::int64_t>(contacts_.size()));
   for (const auto& c : contacts_) c->save(os);
-  write_file_atomically(path, os.str());
+  // Rank 0 writes; its failure stops every rank alike (collective).
+  std::string failure;
+  if (rank() == 0) try {
+      write_file_atomically(path, os.str());
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  if (ranks() > 1 ? any_rank_failed(failure) : !failure.empty()) throw Error(failure);
 }
 
 void Analysis::read_restart(const std::string& path) {
@@ -1571,7 +1581,7 @@ void Analysis::read_restart(const std::string& path) {
     if (get<std::int64_t>(is) != static_cast<std::int64_t>(history_.size())) throw Error("the bodies differ");
     std::vector<std::vector<Real>> hist;
     for (const auto& h : history_)
-      hist.push_back(get_vector<Real>(is, static_cast<std::int64_t>(h.committed_values().size()), "history"));
+      hist.push_back(get_vector<Real>(is, static_cast<std::int64_t>(h.whole_size()), "history"));
     if (get<std::int64_t>(is) != static_cast<std::int64_t>(contacts_.size())) throw Error("the contact pairs differ");
     for (auto& c : contacts_) c->load(is);
     if (is.peek() != std::char_traits<char>::eof()) throw Error("unexpected data at the end");

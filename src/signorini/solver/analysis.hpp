@@ -89,7 +89,8 @@ class Analysis {
   // binary file of this model (unknowns, the predictor's last increment, the bodies'
   // quadrature-point history, each contact pair's per-node records). read_restart, before
   // run(), continues from it: the steps before it are skipped. Throws InputError (with the
-  // file) when the file is not a restart file of this model.
+  // file) when the file is not a restart file of this model. Under MPI write_restart is
+  // collective (each rank gives its own cells' history; rank 0 writes the file).
   void write_restart(const std::string& path) const;
   void read_restart(const std::string& path);
   int first_step() const { return first_step_; }  // steps a restart skipped (0: none)

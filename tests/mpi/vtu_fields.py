@@ -1,0 +1,70 @@
+"""The last increment's ParaView fields of a run's output folder, for the MPI tests: from its .vtu,
+or from the pieces its .pvtu joins (one per rank), keyed so that one rank's file and N ranks'
+pieces compare entry by entry."""
+import glob
+import os
+import re
+import struct
+
+
+def read_vtu(path):
+    """The Float64 arrays of a .vtu (raw appended data, UInt64 headers): {name: (components, values)}."""
+    with open(path, "rb") as f:
+        data = f.read()
+    start = data.index(b'<AppendedData encoding="raw">')
+    head, blob = data[:start].decode(), data[data.index(b"_", start) + 1:]
+    out = {}
+    for m in re.finditer(r'<DataArray type="Float64" Name="([^"]+)" NumberOfComponents="(\d+)"[^>]*offset="(\d+)"', head):
+        name, comps, offset = m.group(1), int(m.group(2)), int(m.group(3))
+        if name == "Points":
+            continue
+        size = struct.unpack_from("<Q", blob, offset)[0]
+        out[name] = (comps, struct.unpack_from("<%dd" % (size // 8), blob, offset + 8))
+    return out
+
+
+def fields(folder, ranks):
+    """The point and cell fields of the folder's last increment, from its .vtu or from the pieces
+    its .pvtu joins (RANKS pieces), each point ordered by node_id and each cell by (body, cell_id), so that one
+    rank's file and N ranks' pieces compare entry by entry."""
+    joined = sorted(glob.glob(os.path.join(folder, "increment_*.pvtu")))
+    if joined:
+        with open(joined[-1]) as f:
+            paths = [os.path.join(folder, p) for p in re.findall(r'<Piece Source="([^"]+)"', f.read())]
+        assert len(paths) == ranks, "%s joins %d pieces, not %d" % (joined[-1], len(paths), ranks)
+    else:
+        paths = sorted(glob.glob(os.path.join(folder, "increment_*.vtu")))[-1:]
+    points, cells = {}, {}
+    names = None
+    for path in paths:
+        piece = read_vtu(path)
+        names = names or sorted(piece)
+        assert sorted(piece) == names, (path, sorted(piece), names)
+        n_points, n_cells = len(piece["node_id"][1]), len(piece["cell_id"][1])
+        for name, (comps, values) in piece.items():
+            if len(values) == comps * n_points:
+                for i, node in enumerate(piece["node_id"][1]):
+                    points.setdefault(name, {})[node] = values[i * comps:(i + 1) * comps]
+            else:
+                assert len(values) == comps * n_cells, (path, name)
+                for i, key in enumerate(zip(piece["body"][1], piece["cell_id"][1])):
+                    assert key not in cells.get(name, {}), "cell %s is in two pieces" % (key,)
+                    cells.setdefault(name, {})[key] = values[i * comps:(i + 1) * comps]
+    out = {}
+    for table in (points, cells):
+        for name, by_key in table.items():
+            out[name] = [v for key in sorted(by_key) for v in by_key[key]]
+    return out
+
+
+def agree(f1, f2, tolerance):
+    """Asserts that two runs' fields (fields()) are the same fields and agree to TOLERANCE relative
+    to each field's largest value; returns the largest such difference."""
+    assert sorted(f1) == sorted(f2), (sorted(f1), sorted(f2))
+    worst = 0.0
+    for name in f1:
+        scale = max(max((abs(v) for v in f1[name]), default=0.0), 1e-300)
+        err = max((abs(a - b) for a, b in zip(f1[name], f2[name])), default=0.0) / scale
+        assert len(f1[name]) == len(f2[name]) and err <= tolerance, "field %s: %.2e apart" % (name, err)
+        worst = max(worst, err)
+    return worst
