@@ -16,23 +16,17 @@ Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [A
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 
-from vtu_fields import agree, fields
+from mpi_case import agree, fields, launcher, read_deck
 
 signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
 expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
 partition = sys.argv[8] if len(sys.argv) > 8 else "rcb"
 ranks, tolerance = int(ranks), float(tolerance)
 os.makedirs(work, exist_ok=True)
-with open(deck) as f:
-    text = f.read()
-# The mesh path relative to the deck's folder, a solver section of our own.
-folder = os.path.dirname(os.path.abspath(deck))
-text = text.replace("file: ", "file: " + folder + "/", 1)
-text = "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
+text = read_deck(deck)  # a solver section of our own below
 linear_type, _, iterative_above = linear.partition("@")
 extra = ", iterative_above: %s" % iterative_above if iterative_above else ""
 # COMPARE_RESIDUAL_TOLERANCE: Newton's tolerance for both runs, for an example whose fields at the
@@ -52,13 +46,9 @@ copy = os.path.join(work, "deck.yaml")
 with open(copy, "w") as f:
     f.write(text)
 
-mpirun = shutil.which("mpirun")
-if mpirun is None:
-    sys.exit("mpirun not found (apt install openmpi-bin)")
 # SIGNORINI_CHECK_CONDENSED_PRODUCT: the partitioned backend checks its T^T J T (condensed
 # contact multipliers) against PETSc's MatPtAP at every solve and stops the run if they differ.
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
-           SIGNORINI_CHECK_CONDENSED_PRODUCT="1")
+mpirun, env = launcher(SIGNORINI_CHECK_CONDENSED_PRODUCT="1")
 
 
 def run(n):

@@ -16,16 +16,12 @@ import shutil
 import subprocess
 import sys
 
-from vtu_fields import agree, fields
+from mpi_case import agree, fields, launcher, read_deck
 
 signorini, deck, ranks, tolerance, work = sys.argv[1:6]
 ranks, tolerance = int(ranks), float(tolerance)
 os.makedirs(work, exist_ok=True)
-with open(deck) as f:
-    text = f.read()
-folder = os.path.dirname(os.path.abspath(deck))
-text = text.replace("file: ", "file: " + folder + "/", 1)
-text = "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
+text = read_deck(deck)
 # The step, then the same step unloading to zero pressure; a restart file after each step.
 first, last = text.index("  - name: pressurize"), text.index("\noutput:")
 step = text[first:last + 1]
@@ -47,10 +43,7 @@ copy = os.path.join(work, "deck.yaml")
 with open(copy, "w") as f:
     f.write(text)
 
-mpirun = shutil.which("mpirun")
-if mpirun is None:
-    sys.exit("mpirun not found (apt install openmpi-bin)")
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+mpirun, env = launcher()
 
 
 def run(n, name, *extra):

@@ -1,10 +1,34 @@
-"""The last increment's ParaView fields of a run's output folder, for the MPI tests: from its .vtu,
-or from the pieces its .pvtu joins (one per rank), keyed so that one rank's file and N ranks'
-pieces compare entry by entry."""
+"""What the MPI tests share: a shipped example's deck made runnable from a work folder, the
+mpirun launcher and its environment, and the last increment's ParaView fields of a run's output
+folder (from its .vtu, or from the pieces its .pvtu joins, one per rank), keyed so that one
+rank's file and N ranks' pieces compare entry by entry."""
 import glob
 import os
 import re
+import shutil
 import struct
+import sys
+
+
+def read_deck(deck):
+    """The example deck's text with its mesh path made absolute (relative to the deck's folder)
+    and its solver section left out (each test writes its own)."""
+    with open(deck) as f:
+        text = f.read()
+    folder = os.path.dirname(os.path.abspath(deck))
+    text = text.replace("file: ", "file: " + folder + "/", 1)
+    return "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
+
+
+def launcher(**variables):
+    """mpirun's path and the environment of the runs (root allowed, oversubscription allowed for
+    more ranks than cores), with VARIABLES added; exits when mpirun is missing."""
+    mpirun = shutil.which("mpirun")
+    if mpirun is None:
+        sys.exit("mpirun not found (apt install openmpi-bin)")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1", **variables)
+    return mpirun, env
 
 
 def read_vtu(path):
