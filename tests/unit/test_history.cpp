@@ -97,11 +97,9 @@ TEST(History, EachRankHoldsItsOwnCells) {
   Body b("b", m.regions["domain"], std::make_shared<CountingMaterial>(), st);
   DofMap d(m.num_nodes(), 2, test::cells_of(b));
   VecX u = VecX::Zero(d.num_dofs()), f = u;
-  QuadratureHistory whole(b), mine(b), theirs(b);
-  ASSERT_EQ(whole.whole_size(), 12);  // 3 cells x 4 points x 1 value
   const std::vector<std::vector<char>> held{{1, 0, 1}}, others{{0, 1, 0}};
-  mine.hold_only(held);
-  theirs.hold_only(others);
+  QuadratureHistory whole(b), mine(b, &held), theirs(b, &others);
+  ASSERT_EQ(whole.whole_size(), 12);  // 3 cells x 4 points x 1 value
   EXPECT_EQ(mine.committed_values().size(), 8u);
   EXPECT_EQ(theirs.committed_values().size(), 4u);
   EXPECT_EQ(mine.whole_size(), 12);
@@ -137,4 +135,8 @@ TEST(History, EachRankHoldsItsOwnCells) {
   EXPECT_EQ(mine.committed(0, 2)[0], 8);
   EXPECT_EQ(mine.whole_committed(), (std::vector<Real>{0, 1, 2, 3, 0, 0, 0, 0, 8, 9, 10, 11}));
   EXPECT_THROW(mine.restore(std::vector<Real>(11)), Error);
+  // A mask per block, of the block's size.
+  const std::vector<std::vector<char>> short_mask{{1, 0}}, no_mask{};
+  EXPECT_THROW(QuadratureHistory(b, &short_mask), Error);
+  EXPECT_THROW(QuadratureHistory(b, &no_mask), Error);
 }

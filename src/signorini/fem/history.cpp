@@ -8,48 +8,38 @@
 
 namespace signorini {
 
-QuadratureHistory::QuadratureHistory(const Body& body) {
+QuadratureHistory::QuadratureHistory(const Body& body, const std::vector<std::vector<char>>* held) {
   if (body.rigid()) return;
   const Material& m = body.material();
   per_point_ = m.history_size();
   names_ = m.history_names();
-  Index offset = 0;
+  if (held && held->size() != body.blocks().size())
+    throw Error("QuadratureHistory: one mask of held cells per block expected");
+  Index whole = 0, stored = 0;
   for (size_t b = 0; b < body.blocks().size(); ++b) {
-    block_offset_.push_back(offset);
-    cells_.push_back(body.blocks()[b].size());
+    const Index cells = body.blocks()[b].size();
+    block_offset_.push_back(whole);
+    cells_.push_back(cells);
     per_element_.push_back(body.points_per_element(b) * per_point_);
-    offset += body.blocks()[b].size() * per_element_.back();
+    whole += cells * per_element_.back();
+    if (!held) continue;
+    if (static_cast<Index>((*held)[b].size()) != cells) throw Error("QuadratureHistory: a mask of the wrong size");
+    held_offset_.emplace_back(static_cast<size_t>(cells), -1);
+    for (Index e = 0; e < cells; ++e)
+      if ((*held)[b][static_cast<size_t>(e)]) {
+        held_offset_.back()[static_cast<size_t>(e)] = stored;
+        stored += per_element_.back();
+      }
   }
-  whole_size_ = per_point_ == 0 ? 0 : offset;
-  if (per_point_ == 0) return;
-  committed_.resize(offset);
-  for (Index k = 0; k < offset; k += per_point_) m.initialize_history(committed_.data() + k);
+  if (per_point_ == 0) {
+    held_offset_.clear();
+    return;
+  }
+  whole_size_ = whole;
+  committed_.resize(static_cast<size_t>(held ? stored : whole));
+  for (size_t k = 0; k < committed_.size(); k += static_cast<size_t>(per_point_))
+    m.initialize_history(committed_.data() + k);
   trial_ = committed_;
-}
-
-void QuadratureHistory::hold_only(const std::vector<std::vector<char>>& held) {
-  if (empty()) return;
-  if (held.size() != per_element_.size()) throw Error("QuadratureHistory::hold_only: one mask per block expected");
-  std::vector<std::vector<Index>> offsets(per_element_.size());
-  std::vector<Real> committed, trial;
-  for (size_t b = 0; b < per_element_.size(); ++b) {
-    const Index cells = cells_[b];
-    if (static_cast<Index>(held[b].size()) != cells) throw Error("QuadratureHistory::hold_only: a mask of the wrong size");
-    offsets[b].assign(static_cast<size_t>(cells), -1);
-    for (Index e = 0; e < cells; ++e) {
-      if (!held[b][static_cast<size_t>(e)]) continue;
-      const Index from = offset(b, e);  // the layout so far
-      offsets[b][static_cast<size_t>(e)] = static_cast<Index>(committed.size());
-      committed.insert(committed.end(), committed_.begin() + from, committed_.begin() + from + per_element_[b]);
-      trial.insert(trial.end(), trial_.begin() + from, trial_.begin() + from + per_element_[b]);
-    }
-  }
-  committed.shrink_to_fit();
-  trial.shrink_to_fit();
-  // Called again, the cells held now must have been held before (offset() throws otherwise).
-  held_offset_ = std::move(offsets);
-  committed_ = std::move(committed);
-  trial_ = std::move(trial);
 }
 
 std::vector<Real> QuadratureHistory::whole_committed() const {

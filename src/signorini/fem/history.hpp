@@ -18,8 +18,10 @@ class QuadratureHistory {
  public:
   QuadratureHistory() = default;
   // Sized for the body's blocks and quadrature rules, every point set by the material's
-  // initialize_history (a rigid body or a material without history: empty).
-  explicit QuadratureHistory(const Body& body);
+  // initialize_history (a rigid body or a material without history: empty). With `held`
+  // (partitioned assembly over MPI ranks, issue 15: per block, a rank's own cells) only those
+  // cells' values are stored; the others take no memory, and asking for them is an error.
+  explicit QuadratureHistory(const Body& body, const std::vector<std::vector<char>>* held = nullptr);
 
   int per_point() const { return per_point_; }
   bool empty() const { return committed_.empty(); }
@@ -28,8 +30,8 @@ class QuadratureHistory {
     return empty() ? nullptr : committed_.data() + offset(block, element);
   }
   Real* trial(size_t block, Index element) { return empty() ? nullptr : trial_.data() + offset(block, element); }
-  // Whether the values of cell `element` of block b are held here (all cells but after
-  // hold_only).
+  // Whether the values of cell `element` of block b are held here (all cells unless `held`
+  // said otherwise).
   bool holds(size_t block, Index element) const {
     return held_offset_.empty() || held_offset_[block][static_cast<size_t>(element)] >= 0;
   }
@@ -37,13 +39,9 @@ class QuadratureHistory {
 
   void commit() { committed_ = trial_; }  // the increment converged
   void revert() { trial_ = committed_; }  // the increment is cut back, or starts
-  // The values held here (after hold_only, only those of the held cells, in cell order).
+  // The values held here (with `held`, only those of the held cells, in cell order).
   const std::vector<Real>& committed_values() const { return committed_; }
 
-  // Partitioned assembly over MPI ranks (issue 15): each rank keeps the history of its own
-  // cells only (held[block][element]); the others' values are dropped and take no memory, and
-  // asking for them is an error. Call once, before the first increment.
-  void hold_only(const std::vector<std::vector<char>>& held);
   // The committed state in the layout of the whole body (every cell): the held cells' values,
   // zeros elsewhere, so that a sum over the ranks gives every cell its owner's (a restart file).
   std::vector<Real> whole_committed() const;
@@ -64,7 +62,7 @@ class QuadratureHistory {
   int per_point_ = 0;
   Index whole_size_ = 0;
   std::vector<Index> block_offset_, per_element_, cells_;  // the whole layout
-  std::vector<std::vector<Index>> held_offset_;    // after hold_only: each cell's first value, -1 if not held
+  std::vector<std::vector<Index>> held_offset_;    // with `held`: each cell's first value, -1 if not held
   std::vector<Real> committed_, trial_;
   std::vector<std::string> names_;
 };

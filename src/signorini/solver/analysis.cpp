@@ -147,7 +147,6 @@ Analysis::Analysis(Model& model)
       dofs_(model.mesh.num_nodes(), model.settings.spatial_dim(), all_cells(model), rigid_groups(model)),
       backend_(make_serial_backend(solver_settings(model), model.settings.dimension == Dimension::three_d)),
       cells_(all_cells(model)) {
-  for (auto& b : model.bodies) history_.emplace_back(*b);
   for (auto& b : model.bodies) linear_bodies_ = linear_bodies_ || b->linear();
   Real stiffness = 0;
   for (auto& b : model.bodies)
@@ -236,6 +235,11 @@ Analysis::Analysis(Model& model)
   choose_algebra();
   if (!contacts_.empty()) detect_contact(0);
   rebuild_pattern();
+  // The bodies' quadrature-point history, once the cells are shared out: partitioned, each
+  // rank holds its own cells' only (it alone updates them, and writes them in its piece of the
+  // output; a restart file gathers them), never the whole of it.
+  for (size_t i = 0; i < model.bodies.size(); ++i)
+    history_.emplace_back(*model.bodies[i], owned_cells_.empty() ? nullptr : &owned_cells_[i]);
 }
 
 // Several MPI ranks with a PETSc solver: partitioned assembly (each rank its own cells, into
@@ -378,9 +382,6 @@ void Analysis::rebuild_pattern() {
     }
     log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
                backend_->owned_begin(), backend_->owned_end());
-    // Each rank keeps the quadrature-point history of its own cells only: it alone updates
-    // them, and the output writes them in its piece (a restart file gathers them).
-    for (size_t i = 0; i < history_.size(); ++i) history_[i].hold_only(owned_cells_[i]);
   }
   if (!factor_assessed_) {  // once, on the first pattern
     factor_assessed_ = true;
