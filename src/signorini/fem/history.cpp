@@ -19,7 +19,6 @@ QuadratureHistory::QuadratureHistory(const Body& body, const std::vector<std::ve
   for (size_t b = 0; b < body.blocks().size(); ++b) {
     const Index cells = body.blocks()[b].size();
     block_offset_.push_back(whole);
-    cells_.push_back(cells);
     per_element_.push_back(body.points_per_element(b) * per_point_);
     whole += cells * per_element_.back();
     if (!held) continue;

@@ -61,7 +61,7 @@ class QuadratureHistory {
   [[noreturn]] void throw_not_held(size_t block, Index element) const;
   int per_point_ = 0;
   Index whole_size_ = 0;
-  std::vector<Index> block_offset_, per_element_, cells_;  // the whole layout
+  std::vector<Index> block_offset_, per_element_;  // the whole layout
   std::vector<std::vector<Index>> held_offset_;    // with `held`: each cell's first value, -1 if not held
   std::vector<Real> committed_, trial_;
   std::vector<std::string> names_;
