@@ -13,13 +13,11 @@ being below the default iterative_above); "auto@K" sets iterative_above K, below
 unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
 distributed backend condenses). summary.json's linear type says what was picked.
 Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
-import json
 import os
 import re
-import subprocess
 import sys
 
-from mpi_case import agree, fields, launcher, read_deck
+from mpi_case import agree, fields, launcher, read_deck, run_signorini, write_deck
 
 signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
 expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
@@ -42,9 +40,7 @@ for edit in filter(None, os.environ.get("COMPARE_DECK_EDIT", "").split("|")):
     old, new = (part.replace("\\n", "\n") for part in edit.split("=>"))
     assert old in text, "COMPARE_DECK_EDIT: %r is not in %s" % (old, deck)
     text = text.replace(old, new)
-copy = os.path.join(work, "deck.yaml")
-with open(copy, "w") as f:
-    f.write(text)
+copy = write_deck(work, text)
 
 # SIGNORINI_CHECK_CONDENSED_PRODUCT: the partitioned backend checks its T^T J T (condensed
 # contact multipliers) against PETSc's MatPtAP at every solve and stops the run if they differ.
@@ -52,15 +48,7 @@ mpirun, env = launcher(SIGNORINI_CHECK_CONDENSED_PRODUCT="1")
 
 
 def run(n):
-    out = os.path.join(work, "np%d" % n)
-    cmd = [signorini, "run", copy, "-q", "-o", out]
-    if n > 1:
-        cmd = [mpirun, "-np", str(n)] + cmd
-    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
-    if p.returncode != 0:
-        sys.exit("np %d: exit code %d\n%s\n%s" % (n, p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f), p.stdout
+    return run_signorini(signorini, copy, os.path.join(work, "np%d" % n), n, mpirun, env, "np %d" % n)
 
 
 one, _ = run(1)

@@ -16,7 +16,7 @@ import subprocess
 import sys
 import time
 
-from mpi_case import launcher, read_deck
+from mpi_case import launcher, read_deck, write_deck
 
 signorini, deck, ranks, work = sys.argv[1:5]
 ranks = int(ranks)
@@ -25,9 +25,7 @@ text = read_deck(deck)
 text = text.replace("increments: {initial: 0.0556, max: 0.0556}", "increments: {initial: 0.00278, max: 0.00278}")
 assert "0.00278" in text, "the deck's increments line changed: update this test"
 text += "\nsolver: {linear: mumps}\n"
-copy = os.path.join(work, "deck.yaml")
-with open(copy, "w") as f:
-    f.write(text)
+copy = write_deck(work, text)
 out = os.path.join(work, "out")
 shutil.rmtree(out, ignore_errors=True)
 

@@ -3,10 +3,12 @@ mpirun launcher and its environment, and the last increment's ParaView fields of
 folder (from its .vtu, or from the pieces its .pvtu joins, one per rank), keyed so that one
 rank's file and N ranks' pieces compare entry by entry."""
 import glob
+import json
 import os
 import re
 import shutil
 import struct
+import subprocess
 import sys
 
 
@@ -18,6 +20,27 @@ def read_deck(deck):
     folder = os.path.dirname(os.path.abspath(deck))
     text = text.replace("file: ", "file: " + folder + "/", 1)
     return "\n".join(line for line in text.splitlines() if not line.startswith("solver:"))
+
+
+def write_deck(work, text):
+    """TEXT written as WORK/deck.yaml; returns its path."""
+    copy = os.path.join(work, "deck.yaml")
+    with open(copy, "w") as f:
+        f.write(text)
+    return copy
+
+
+def run_signorini(signorini, deck, out, n, mpirun, env, label, *extra):
+    """`signorini run DECK -q -o OUT EXTRA...` on N ranks (one process when N is 1); exits with
+    LABEL, the exit code and the output's tails when it fails. Returns (summary.json, stdout)."""
+    cmd = [signorini, "run", deck, "-q", "-o", out] + list(extra)
+    if n > 1:
+        cmd = [mpirun, "-np", str(n)] + cmd
+    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    if p.returncode != 0:
+        sys.exit("%s: exit code %d\n%s\n%s" % (label, p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f), p.stdout
 
 
 def launcher(**variables):

@@ -10,13 +10,11 @@ reactions, stresses, the plastic history) and the residual displacement (checked
 Hill's solution less the elastic unloading) to TOLERANCE. A file that held rank 0's
 cells' history alone restarts the other cells unstrained, and misses by far more.
 Usage: restart_ranks.py SIGNORINI EXAMPLE_DECK RANKS TOLERANCE WORKDIR"""
-import json
 import os
 import shutil
-import subprocess
 import sys
 
-from mpi_case import agree, fields, launcher, read_deck
+from mpi_case import agree, fields, launcher, read_deck, run_signorini, write_deck
 
 signorini, deck, ranks, tolerance, work = sys.argv[1:6]
 ranks, tolerance = int(ranks), float(tolerance)
@@ -39,9 +37,7 @@ checks:
 text = text.replace("vtu: every_increment}", "vtu: every_increment, restart: every_step}")
 assert "restart: every_step" in text, "the deck's output line changed: update this test"
 text += "\nsolver: {linear: {type: mumps}}\n"
-copy = os.path.join(work, "deck.yaml")
-with open(copy, "w") as f:
-    f.write(text)
+copy = write_deck(work, text)
 
 mpirun, env = launcher()
 
@@ -49,14 +45,7 @@ mpirun, env = launcher()
 def run(n, name, *extra):
     out = os.path.join(work, name)
     shutil.rmtree(out, ignore_errors=True)
-    cmd = [signorini, "run", copy, "-q", "-o", out] + list(extra)
-    if n > 1:
-        cmd = [mpirun, "-np", str(n)] + cmd
-    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
-    if p.returncode != 0:
-        sys.exit("%s: exit code %d\n%s\n%s" % (name, p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
-    with open(os.path.join(out, "summary.json")) as f:
-        summary = json.load(f)
+    summary, _ = run_signorini(signorini, copy, out, n, mpirun, env, name, *extra)
     assert summary["status"] == "completed", (name, summary["status"])
     assert summary["mpi_ranks"] == n, (name, summary["mpi_ranks"])
     return summary, fields(out, n)
