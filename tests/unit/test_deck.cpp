@@ -79,6 +79,10 @@ TEST(Deck, GoodDeckReads) {
   EXPECT_EQ(m.steps.size(), 1u);
   EXPECT_EQ(m.steps[0].dirichlet.size(), 2u);
   EXPECT_EQ(m.mesh.num_cells(), 16);
+  // The body's cells are held once: moved out of the mesh's region, which keeps its name.
+  EXPECT_EQ(m.bodies[0]->num_cells(), 16);
+  ASSERT_EQ(m.mesh.regions.count("Square"), 1u);
+  EXPECT_TRUE(m.mesh.regions.at("Square").empty());
 }
 
 TEST(Deck, MalformedYaml) {

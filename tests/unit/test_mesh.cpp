@@ -115,3 +115,21 @@ TEST(Mesh, NonFiniteCoordinatesAreRefusedWithTheLine) {
     std::filesystem::remove(path);
   }
 }
+
+// A region's cells handed to a body leave the mesh (held once), counted still; a region taken
+// twice or not in the mesh is an error, not an empty body.
+TEST(Mesh, TakeRegionMovesTheCellsOut) {
+  Mesh m = structured_rectangle(ElementType::quad4, 3, 2, 1.0, 1.0);
+  ASSERT_EQ(m.regions.count("domain"), 1u);
+  const Index cells = m.num_cells();
+  ASSERT_EQ(cells, 6);
+  const std::vector<Index> first(m.regions.at("domain")[0].conn.begin(), m.regions.at("domain")[0].conn.begin() + 4);
+  std::vector<ElementBlock> taken = m.take_region("domain");
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].size(), 6);
+  EXPECT_TRUE(std::equal(first.begin(), first.end(), taken[0].conn.begin()));
+  EXPECT_TRUE(m.regions.at("domain").empty());
+  EXPECT_EQ(m.num_cells(), cells);
+  EXPECT_THROW(m.take_region("domain"), Error);
+  EXPECT_THROW(m.take_region("nowhere"), Error);
+}

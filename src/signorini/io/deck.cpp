@@ -311,7 +311,7 @@ void read_materials_and_bodies(const Node& mats, const Node& bodies, const Regis
             b.child("region").fail("axisymmetric analysis needs x = r >= 0, but region '" + region +
                                    "' has nodes at negative x");
     m.bodies.push_back(
-        std::make_unique<Body>(name, rit->second, rigid ? nullptr : mit->second, m.settings));
+        std::make_unique<Body>(name, m.mesh.take_region(region), rigid ? nullptr : mit->second, m.settings));
     if (rigid && b.has("reference")) {
       const std::string ref = b.child("reference").as_string();
       auto nit = m.mesh.node_sets.find(ref);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "signorini/core/error.hpp"
 #include "signorini/fem/quadrature.hpp"
 #include "signorini/fem/shape.hpp"
 
@@ -14,10 +15,21 @@ void ElementBlock::add(const std::vector<Index>& nodes, Index id) {
 }
 
 Index Mesh::num_cells() const {
-  Index n = 0;
+  Index n = taken_cells_;
   for (auto& [name, blocks] : regions)
     for (auto& b : blocks) n += b.size();
   return n;
+}
+
+std::vector<ElementBlock> Mesh::take_region(const std::string& name) {
+  auto it = regions.find(name);
+  if (it == regions.end()) throw Error("no region named '" + name + "' in the mesh");
+  if (taken_[name]) throw Error("the cells of region '" + name + "' were handed to a body already");
+  taken_[name] = true;
+  std::vector<ElementBlock> blocks = std::move(it->second);
+  it->second.clear();
+  for (auto& b : blocks) taken_cells_ += b.size();
+  return blocks;
 }
 
 template <typename M>

@@ -31,13 +31,22 @@ struct Mesh {
   std::map<std::string, std::vector<Index>> node_sets;          // sorted node indices
 
   Index num_nodes() const { return static_cast<Index>(nodes.size()); }
+  // Every cell read, those handed over to bodies (take_region) included.
   Index num_cells() const;
+  // Moves a region's cells out (to the body made of them), so that they are held once: the
+  // region stays, by name, with no cells, and num_cells() still counts them. Throws Error for
+  // a region taken twice or not in the mesh.
+  std::vector<ElementBlock> take_region(const std::string& name);
   // Names of every set of the given kind, comma separated, for error messages.
   std::string region_names() const;
   std::string facet_set_names() const;
   std::string node_set_names() const;
   // Builds node sets for every region and facet set that has none of the same name.
   void complete_node_sets();
+
+ private:
+  Index taken_cells_ = 0;  // cells moved out by take_region
+  std::map<std::string, bool> taken_;
 };
 
 // Lengths of the corner edges of every facet of a facet set (a line facet has one edge).
