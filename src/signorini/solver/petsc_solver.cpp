@@ -547,8 +547,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     return it == part_.end() ? 0 : it->second[static_cast<size_t>(e)];
   }
 
-  // The pattern from this rank's cells, rank 0's coupling groups and every owned diagonal,
-  // gathered by a MATPREALLOCATOR (off-rank rows sent to their owners), then an AIJ matrix
+  // The pattern from this rank's cells, its own rows of the coupling groups and every owned
+  // diagonal, gathered by a MATPREALLOCATOR (the cells' off-rank rows sent to their owners), then an AIJ matrix
   // preallocated exactly and filled with zeros on it.
   void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
@@ -585,13 +585,23 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         insert();
       }
     }
-    if (rank_ == 0)
-      for (const auto& group : couplings) {
-        idx.clear();
-        for (Index i : group)
-          if (i >= 0) idx.push_back(row(i));
-        insert();
-      }
+    // The couplings outside the cells (contact constraints, obstacle and rotation unknowns):
+    // every rank knows them all and enters the rows it owns (the assembly adds them alike).
+    std::vector<PetscInt> owned_rows;
+    for (const auto& group : couplings) {
+      idx.clear();
+      owned_rows.clear();
+      for (Index i : group)
+        if (i >= 0) {
+          idx.push_back(row(i));
+          if (idx.back() >= rstart_ && idx.back() < rend_) owned_rows.push_back(idx.back());
+        }
+      if (owned_rows.empty()) continue;
+      zeros.assign(owned_rows.size() * idx.size(), 0.0);
+      check(MatSetValues(pre, static_cast<PetscInt>(owned_rows.size()), owned_rows.data(), static_cast<PetscInt>(idx.size()),
+                        idx.data(), zeros.data(), INSERT_VALUES),
+            "MatSetValues (pattern)");
+    }
     for (Index i = rstart_; i < rend_; ++i) {
       idx.assign(1, static_cast<PetscInt>(i));
       insert();
@@ -667,13 +677,26 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
           if (dofs[a] >= 0 && dofs[b] >= 0 && (dofs[a] >= nodal_ || dofs[b] >= nodal_) && k(a, b) != 0)
             extra_[{dofs[a], dofs[b]}] += k(a, b);
     }
-    if (!in_cells_ && rank_ != 0) return;  // every rank runs this code alike: rank 0 adds it
-    thread_local std::vector<PetscInt> idx;
+    thread_local std::vector<PetscInt> idx, rows;
     idx.resize(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) idx[i] = dofs[i] < 0 ? -1 : row(dofs[i]);  // negative: skipped by PETSc
+    const PetscInt* r = idx.data();
+    if (!in_cells_) {
+      // Outside the cells (contact, loads, the stabilization) every rank runs this code alike:
+      // each adds the rows it owns, so that no entry goes through PETSc's stash to another
+      // rank (until session 47 rank 0 added them all and sent the others' rows).
+      rows.assign(idx.begin(), idx.end());
+      bool any = false;
+      for (PetscInt& i : rows) {
+        if (i < rstart_ || i >= rend_) i = -1;
+        any = any || i >= 0;
+      }
+      if (!any) return;
+      r = rows.data();
+    }
     PetscErrorCode code = 0;
 #pragma omp critical(signorini_petsc_add)
-    code = MatSetValues(A_, n, idx.data(), n, idx.data(), k.data(), ADD_VALUES);
+    code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
     check(code, "MatSetValues");
   }
   bool missed() const override {
