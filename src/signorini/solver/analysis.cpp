@@ -1042,7 +1042,7 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
     // are left out (their step is the linearized constraint's), and so are penalty and the
     // augmented Lagrangian, whose line search is on and whose penetration is part of the
     // solution (measured: the limit made the penalty drag over a smoothed mound cut back).
-    if (ok && penetrations && ns.penetration_step > 0 && limits < 4) {
+    if (ok && penetrations && ns.penetration_step > 0 && limits <= 4) {
       Real growth = 0;
       Index node = -1;
       for (size_t i = 0; i < contacts_.size() && i < penetrations->size(); ++i) {
@@ -1050,6 +1050,16 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
         const auto [g, n] = contacts_[i]->penetration_growth((*penetrations)[i]);
         if (g > growth) growth = g, node = n;
       }
+      // Still beyond the limit after four cuts (each by up to 20x): the step is no Newton step
+      // of this state but the answer of a (near) singular system, e.g. a body left with no
+      // closed node to hold it, whose full step measured 1e13 facet sizes (the finite-strain
+      // Nitsche patch on quad8, slid, on AVX-512 BLAS kernels: taken, it ended in another,
+      // absurd equilibrium). The iteration fails, and the increment is cut back.
+      if (growth > ns.penetration_step && limits == 4)
+        throw SolverError(fmt::format("the Newton step is not usable: cut four times (to {:.3g}), it would still drive "
+                                      "slave node {} {:.3g} facet sizes deeper (a near-singular system, e.g. a body "
+                                      "held by no closed contact node)",
+                                      alpha, node, growth));
       if (growth > ns.penetration_step) {
         ++limits;
         const Real factor = std::clamp(0.9 * ns.penetration_step / growth, 0.05, 0.5);
