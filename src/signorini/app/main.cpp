@@ -16,6 +16,7 @@
 #include "signorini/core/error.hpp"
 #include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/core/rank_exchange.hpp"
 #include "signorini/io/deck.hpp"
 #include "signorini/io/results_writer.hpp"
 #include "signorini/version.hpp"
@@ -70,7 +71,13 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   const Registry registry = default_registry();
   DeckReport rep;
   install_interrupt_handlers();  // Ctrl-C while a .geo is meshed stops the gmsh process too
-  Model model = read_deck(deck, registry, &rep);
+  // Under mpirun rank 0 alone meshes a .geo (or checks a .msh) and sends the others its mesh.
+#ifdef SIGNORINI_HAVE_PETSC
+  const std::unique_ptr<RankExchange> ranks_exchange = make_rank_exchange();  // null: one process
+#else
+  const std::unique_ptr<RankExchange> ranks_exchange;
+#endif
+  Model model = read_deck(deck, registry, &rep, ranks_exchange.get());
   if (interrupt_signal()) {  // arrived while reading (the readers do not stop by themselves)
     fmt::print(stderr, "error: interrupted while reading '{}'\n", deck);
     return 128 + interrupt_signal();

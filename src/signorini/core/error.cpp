@@ -11,6 +11,6 @@ static std::string compose(const std::string& where, const std::string& key,
 }
 
 InputError::InputError(std::string where, std::string key, const std::string& what)
-    : Error(compose(where, key, what)), where_(std::move(where)), key_(std::move(key)) {}
+    : Error(compose(where, key, what)), where_(std::move(where)), key_(std::move(key)), message_(what) {}
 
 }  // namespace signorini

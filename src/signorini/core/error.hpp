@@ -19,10 +19,13 @@ class InputError : public Error {
   InputError(std::string where, std::string key, const std::string& what);
   const std::string& where() const { return where_; }
   const std::string& key() const { return key_; }
+  // The message without the where and key in front (what() has them).
+  const std::string& message() const { return message_; }
 
  private:
   std::string where_;
   std::string key_;
+  std::string message_;
 };
 
 // The analysis could not go on (Newton diverged below the minimum increment, singular

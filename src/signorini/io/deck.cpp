@@ -173,10 +173,11 @@ void read_analysis(const Node& n, const Registry& r, Model& m) {
     n.child("thickness").fail("thickness applies to plane_strain and plane_stress only");
 }
 
-void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep, Mesh* preread) {
+void read_mesh(const Node& n, const Registry& r, Model& m, DeckReport& rep, Mesh* preread, const RankExchange* ranks) {
   const TypeSpec& spec = deck_spec(r, "mesh");
   n.check_keys(spec);
   GmshOptions opt;
+  opt.ranks = ranks;
   opt.where = n.child("file").where();
   if (n.has("parameters")) {
     Node p = n.child("parameters");
@@ -1074,7 +1075,8 @@ std::string yaml_open_context(const std::string& text, int err_line, int err_col
 }  // namespace
 
 namespace {
-Model read_deck_unguarded(const std::string& path, const Registry& registry, DeckReport* report) {
+Model read_deck_unguarded(const std::string& path, const Registry& registry, DeckReport* report,
+                          const RankExchange* ranks) {
   if (!fs::exists(path)) throw InputError(path, "", "deck file does not exist");
   if (fs::is_directory(path)) throw InputError(path, "", "is a directory, not a deck file");
   YAML::Node root;
@@ -1109,7 +1111,7 @@ Model read_deck_unguarded(const std::string& path, const Registry& registry, Dec
   m.title = top.has("title") ? top.child("title").as_string() : fs::path(path).stem().string();
   DeckReport rep;
   read_analysis(top.child("analysis"), registry, m);
-  read_mesh(top.child("mesh"), registry, m, rep, inp ? &inp->mesh : nullptr);
+  read_mesh(top.child("mesh"), registry, m, rep, inp ? &inp->mesh : nullptr, ranks);
   read_materials_and_bodies(top.child("materials"), top.child("bodies"), registry, m);
   Node steps = top.child("steps");
   steps.expect_list();
@@ -1142,11 +1144,11 @@ Model read_deck_unguarded(const std::string& path, const Registry& registry, Dec
 }
 }  // namespace
 
-Model read_deck(const std::string& path, const Registry& registry, DeckReport* report) {
+Model read_deck(const std::string& path, const Registry& registry, DeckReport* report, const RankExchange* ranks) {
   // Whatever the deck holds, a yaml-cpp or filesystem exception becomes an error that names
   // the file (the fuzzer's rule: bad input gets an InputError).
   try {
-    return read_deck_unguarded(path, registry, report);
+    return read_deck_unguarded(path, registry, report, ranks);
   } catch (const YAML::Exception& e) {
     throw InputError(e.mark.line >= 0 ? path + ":" + std::to_string(e.mark.line + 1) : path, "", e.what());
   } catch (const std::filesystem::filesystem_error& e) {

@@ -8,11 +8,16 @@
 
 namespace signorini {
 
+class RankExchange;
+
 struct DeckReport {
   int reoriented_cells = 0;   // cells whose node order was mirrored on load
   Index orphan_facets = 0;    // facets of a facet set that belong to no cell
 };
 
-Model read_deck(const std::string& path, const Registry& registry, DeckReport* report = nullptr);
+// `ranks` (under mpirun, every rank reading the deck): a .geo is meshed by rank 0 alone
+// (GmshOptions::ranks).
+Model read_deck(const std::string& path, const Registry& registry, DeckReport* report = nullptr,
+                const RankExchange* ranks = nullptr);
 
 }  // namespace signorini

@@ -30,6 +30,7 @@
 #include "signorini/core/error.hpp"
 #include "signorini/core/interrupt.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/core/rank_exchange.hpp"
 
 namespace signorini {
 
@@ -308,6 +309,55 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
   return child.keep(msh);
 }
 
+// Under mpirun: `work` (a gmsh process) on rank 0 alone, its verdict on every rank: nothing, or
+// the InputError it threw, which every rank then throws alike (so that they stop together,
+// rank 0 saying why).
+void on_rank0(const RankExchange& ranks, const std::function<void()>& work) {
+  std::string verdict;
+  auto keep = [&](const std::string& where, const std::string& key, const std::string& message) {
+    verdict = where + '\0' + key + '\0' + message;
+  };
+  if (ranks.rank() == 0) try {
+      work();
+    } catch (const InputError& e) {
+      keep(e.where(), e.key(), e.message());
+    } catch (const std::exception& e) {
+      keep("", "mesh.file", e.what());
+    }
+  ranks.broadcast(verdict, 0);
+  if (verdict.empty()) return;
+  const size_t a = verdict.find('\0'), b = verdict.find('\0', a + 1);
+  throw InputError(verdict.substr(0, a), verdict.substr(a + 1, b - a - 1), verdict.substr(b + 1));
+}
+
+// Rank 0's file `from` copied to `to` on every other rank, in pieces of 256 MiB (a mesh of
+// millions of cells is held once, in the file, not in memory). A rank that cannot write its
+// copy stops every rank (collective), naming itself.
+void send_file(const RankExchange& ranks, const std::string& from, const std::string& to, const std::string& where) {
+  std::ifstream in;
+  std::ofstream out;
+  if (ranks.rank() == 0) in.open(from, std::ios::binary);
+  else out.open(to, std::ios::binary);
+  constexpr std::streamsize piece = std::streamsize{1} << 28;
+  std::string chunk;
+  bool written = ranks.rank() == 0 || static_cast<bool>(out);
+  while (true) {
+    if (ranks.rank() == 0) {
+      chunk.resize(static_cast<size_t>(piece));
+      in.read(chunk.data(), piece);
+      chunk.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    }
+    ranks.broadcast(chunk, 0);
+    if (chunk.empty()) break;
+    if (ranks.rank() != 0 && written) written = static_cast<bool>(out.write(chunk.data(), static_cast<std::streamsize>(chunk.size())));
+  }
+  if (ranks.rank() != 0) written = written && static_cast<bool>(out.flush());
+  const std::string failure =
+      written ? std::string() : fmt::format("rank {} could not write its copy of rank 0's mesh to '{}'", ranks.rank(), to);
+  for (const std::string& f : ranks.allgather(failure))
+    if (!f.empty()) throw InputError(where, "mesh.file", f);
+}
+
 }  // namespace
 
 void check_msh_in_child(const std::string& exe, const std::string& msh, const std::string& where) {
@@ -471,20 +521,40 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
 
   // A .geo is meshed by the gmsh program when it is installed (a crash of its mesher then
   // cannot take this process down), else in this process through the API.
-  std::string to_read = path, generated;
-  const std::string exe = find_gmsh_executable();
-  if (!exe.empty() && ext == ".msh") check_msh_in_child(exe, path, where);
-  if (!exe.empty() && ext == ".geo") {
-    generated = mesh_in_child(exe, path, args, options.order, where, options.max_elements);
-    to_read = generated;
-    args.clear();
+  std::string to_read = path;
+  std::string exe = find_gmsh_executable();
+  // Under mpirun rank 0's gmsh program (or, without one there, every rank's Gmsh API).
+  const RankExchange* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
+  if (ranks) {
+    std::string has = exe.empty() ? "" : "1";
+    ranks->broadcast(has, 0);
+    if (has.empty()) exe.clear();
   }
   struct Cleanup {
     std::string file;
     ~Cleanup() {
-      if (!file.empty()) std::filesystem::remove(file);
+      std::error_code ec;
+      if (!file.empty()) std::filesystem::remove(file, ec);
     }
-  } cleanup{generated};
+  } cleanup;
+  if (!exe.empty() && ext == ".msh") {
+    if (ranks) on_rank0(*ranks, [&] { check_msh_in_child(exe, path, where); });
+    else check_msh_in_child(exe, path, where);
+  }
+  if (!exe.empty() && ext == ".geo") {
+    auto mesh_it = [&] { cleanup.file = mesh_in_child(exe, path, args, options.order, where, options.max_elements); };
+    if (ranks) {
+      on_rank0(*ranks, mesh_it);
+      if (ranks->rank() != 0) cleanup.file = temp_stem() + ".msh";
+      send_file(*ranks, cleanup.file, cleanup.file, where);
+      log::debug("'{}' meshed by rank 0, read by all {} ranks", path, ranks->size());
+    } else {
+      mesh_it();
+    }
+    to_read = cleanup.file;
+    args.clear();
+  }
+  const std::string generated = cleanup.file;
   // A .msh was read by a gmsh process first (check_msh_in_child): a malformed file that
   // crashes or hangs Gmsh's parser, or leaks in it, does so there.
   std::lock_guard<std::mutex> lock(g_gmsh_mutex);

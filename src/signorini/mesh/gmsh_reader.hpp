@@ -8,12 +8,19 @@
 
 namespace signorini {
 
+class RankExchange;
+
 struct GmshOptions {
   std::map<std::string, Real> parameters;  // .geo constants, declared with DefineConstant
   int order = 0;                           // element order to set after meshing (0: as is)
   std::string where;                       // deck location for error messages
   bool trusted = false;                    // run a .geo's side effects (geo_side_effect)
   double max_elements = 2e7;               // a .geo meshing beyond this (estimated) stops with an error
+  // Under mpirun (every rank reads the deck): rank 0 alone runs the gmsh program (a .geo
+  // meshed, a .msh checked) and sends the other ranks its verdict and its mesh file, so that a
+  // node's ranks do not each mesh (p times the mesher's memory and time) and every rank reads
+  // the same mesh. Null (one process): this process does it all.
+  const RankExchange* ranks = nullptr;
 };
 
 // The elements of a .geo meshed with every size multiplied by `size_factor` (Gmsh's

@@ -1479,6 +1479,16 @@ class MpiRankExchange final : public RankExchange {
     for (int r = 0; r < size_; ++r) out[r] = all.substr(offsets[r], counts[r]);
     return out;
   }
+  void broadcast(std::string& bytes, int root) const override {
+    // The size first, then the bytes in pieces that MPI's int counts take.
+    unsigned long long size = bytes.size();
+    MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, root, PETSC_COMM_WORLD);
+    bytes.resize(static_cast<size_t>(size));
+    constexpr size_t piece = size_t{1} << 30;
+    for (size_t at = 0; at < bytes.size(); at += piece)
+      MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(piece, bytes.size() - at)), MPI_CHAR, root,
+                PETSC_COMM_WORLD);
+  }
 
  private:
   int rank_ = 0, size_ = 1;
