@@ -73,8 +73,8 @@ class AlgebraBackend {
   // runs the same analysis on the same (replicated) vectors, but the bodies' cells are shared
   // out: between begin_cells() and end_cells() each rank adds the entries of its own cells
   // (cell_owner()); outside, the code that every rank runs alike (loads, contact,
-  // stabilization) is added once, by rank 0. The internal forces, summed per rank, are then
-  // made whole by sum_over_ranks().
+  // stabilization) is added by every rank for the rows it owns. The internal forces, summed
+  // per rank, are then made whole by sum_over_ranks().
   virtual int ranks() const { return 1; }
   virtual int rank() const { return 0; }
   // The nodes' reference coordinates, for sharing out the cells (before build_pattern).

@@ -1,5 +1,7 @@
 #include "signorini/solver/petsc_solver.hpp"
 
+#include <unistd.h>
+
 #include <petscksp.h>
 
 #include <algorithm>
@@ -1452,6 +1454,16 @@ std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& s
 
 namespace {
 class MpiRankExchange final : public RankExchange {
+  // Tests the request, sleeping in between (50 us at first, doubling up to 20 ms).
+  static void wait_asleep(MPI_Request& request) {
+    int done = 0;
+    for (useconds_t pause = 50;; pause = std::min<useconds_t>(2 * pause, 20000)) {
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      if (done) return;
+      ::usleep(pause);
+    }
+  }
+
  public:
   MpiRankExchange() {
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
@@ -1480,14 +1492,20 @@ class MpiRankExchange final : public RankExchange {
     return out;
   }
   void broadcast(std::string& bytes, int root) const override {
-    // The size first, then the bytes in pieces that MPI's int counts take.
+    // The size first, then the bytes in pieces that MPI's int counts take. The ranks wait
+    // asleep (a blocking MPI_Bcast spins: while rank 0 meshes for minutes the others would take
+    // the cores its gmsh runs on, when the ranks outnumber them).
     unsigned long long size = bytes.size();
-    MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, root, PETSC_COMM_WORLD);
+    MPI_Request request;
+    MPI_Ibcast(&size, 1, MPI_UNSIGNED_LONG_LONG, root, PETSC_COMM_WORLD, &request);
+    wait_asleep(request);
     bytes.resize(static_cast<size_t>(size));
     constexpr size_t piece = size_t{1} << 30;
-    for (size_t at = 0; at < bytes.size(); at += piece)
-      MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(piece, bytes.size() - at)), MPI_CHAR, root,
-                PETSC_COMM_WORLD);
+    for (size_t at = 0; at < bytes.size(); at += piece) {
+      MPI_Ibcast(bytes.data() + at, static_cast<int>(std::min(piece, bytes.size() - at)), MPI_CHAR, root,
+                 PETSC_COMM_WORLD, &request);
+      wait_asleep(request);
+    }
   }
 
  private:
