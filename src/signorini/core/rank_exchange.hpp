@@ -2,8 +2,8 @@
 // holds the whole mesh and runs the same Newton iterations, docs/architecture.md): a rank
 // computes its share of a loop, then every rank receives every rank's results, so that all of
 // them go on with the same bytes. The contact evaluation of mortar's slave facets uses it
-// (Discretization::set_rank_exchange), and so does the meshing of a .geo, which rank 0 alone
-// runs and sends to the others (GmshOptions::ranks). Implemented over MPI in solver/petsc_solver.cpp; one
+// (Discretization::set_rank_exchange); the mesh, which rank 0 alone reads, is broadcast to the
+// others (GmshOptions::ranks). Implemented over MPI in solver/petsc_solver.cpp; one
 // process has none (a null pointer), and code written against it runs its whole loop then.
 #pragma once
 #include <string>

@@ -330,34 +330,6 @@ void on_rank0(const RankExchange& ranks, const std::function<void()>& work) {
   throw InputError(verdict.substr(0, a), verdict.substr(a + 1, b - a - 1), verdict.substr(b + 1));
 }
 
-// Rank 0's file `from` copied to `to` on every other rank, in pieces of 256 MiB (a mesh of
-// millions of cells is held once, in the file, not in memory). A rank that cannot write its
-// copy stops every rank (collective), naming itself.
-void send_file(const RankExchange& ranks, const std::string& from, const std::string& to, const std::string& where) {
-  std::ifstream in;
-  std::ofstream out;
-  if (ranks.rank() == 0) in.open(from, std::ios::binary);
-  else out.open(to, std::ios::binary);
-  constexpr std::streamsize piece = std::streamsize{1} << 28;
-  std::string chunk;
-  bool written = ranks.rank() == 0 || static_cast<bool>(out);
-  while (true) {
-    if (ranks.rank() == 0) {
-      chunk.resize(static_cast<size_t>(piece));
-      in.read(chunk.data(), piece);
-      chunk.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-    }
-    ranks.broadcast(chunk, 0);
-    if (chunk.empty()) break;
-    if (ranks.rank() != 0 && written) written = static_cast<bool>(out.write(chunk.data(), static_cast<std::streamsize>(chunk.size())));
-  }
-  if (ranks.rank() != 0) written = written && static_cast<bool>(out.flush());
-  const std::string failure =
-      written ? std::string() : fmt::format("rank {} could not write its copy of rank 0's mesh to '{}'", ranks.rank(), to);
-  for (const std::string& f : ranks.allgather(failure))
-    if (!f.empty()) throw InputError(where, "mesh.file", f);
-}
-
 }  // namespace
 
 void check_msh_in_child(const std::string& exe, const std::string& msh, const std::string& where) {
@@ -471,7 +443,8 @@ std::string geo_side_effect(const std::string& t) {
   return "";
 }
 
-Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
+namespace {
+Mesh read_gmsh_here(const std::string& path, const GmshOptions& options) {
   namespace fs = std::filesystem;
   const std::string where = options.where.empty() ? path : options.where;
   if (!fs::exists(path)) throw InputError(where, "mesh.file", "mesh file '" + path + "' does not exist");
@@ -521,40 +494,20 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
 
   // A .geo is meshed by the gmsh program when it is installed (a crash of its mesher then
   // cannot take this process down), else in this process through the API.
-  std::string to_read = path;
-  std::string exe = find_gmsh_executable();
-  // Under mpirun rank 0's gmsh program (or, without one there, every rank's Gmsh API).
-  const RankExchange* ranks = options.ranks && options.ranks->size() > 1 ? options.ranks : nullptr;
-  if (ranks) {
-    std::string has = exe.empty() ? "" : "1";
-    ranks->broadcast(has, 0);
-    if (has.empty()) exe.clear();
+  std::string to_read = path, generated;
+  const std::string exe = find_gmsh_executable();
+  if (!exe.empty() && ext == ".msh") check_msh_in_child(exe, path, where);
+  if (!exe.empty() && ext == ".geo") {
+    generated = mesh_in_child(exe, path, args, options.order, where, options.max_elements);
+    to_read = generated;
+    args.clear();
   }
   struct Cleanup {
     std::string file;
     ~Cleanup() {
-      std::error_code ec;
-      if (!file.empty()) std::filesystem::remove(file, ec);
+      if (!file.empty()) std::filesystem::remove(file);
     }
-  } cleanup;
-  if (!exe.empty() && ext == ".msh") {
-    if (ranks) on_rank0(*ranks, [&] { check_msh_in_child(exe, path, where); });
-    else check_msh_in_child(exe, path, where);
-  }
-  if (!exe.empty() && ext == ".geo") {
-    auto mesh_it = [&] { cleanup.file = mesh_in_child(exe, path, args, options.order, where, options.max_elements); };
-    if (ranks) {
-      on_rank0(*ranks, mesh_it);
-      if (ranks->rank() != 0) cleanup.file = temp_stem() + ".msh";
-      send_file(*ranks, cleanup.file, cleanup.file, where);
-      log::debug("'{}' meshed by rank 0, read by all {} ranks", path, ranks->size());
-    } else {
-      mesh_it();
-    }
-    to_read = cleanup.file;
-    args.clear();
-  }
-  const std::string generated = cleanup.file;
+  } cleanup{generated};
   // A .msh was read by a gmsh process first (check_msh_in_child): a malformed file that
   // crashes or hangs Gmsh's parser, or leaks in it, does so there.
   std::lock_guard<std::mutex> lock(g_gmsh_mutex);
@@ -631,6 +584,116 @@ Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
                                               std::to_string(mesh.dim));
   // Drop nodes that no cell uses? They stay (a physical point may name one); they get no
   // degrees of freedom unless a cell uses them.
+  return mesh;
+}
+
+// A mesh as bytes (rank 0 to the other ranks, one machine's layout: the ranks of a run share
+// one build): counts, then the arrays' bytes.
+class MeshBytes {
+ public:
+  static std::string pack(const Mesh& m) {
+    std::string b;
+    auto raw = [&](const void* p, size_t n) { b.append(static_cast<const char*>(p), n); };
+    auto count = [&](size_t n) {
+      const std::uint64_t c = n;
+      raw(&c, sizeof c);
+    };
+    auto array = [&](const auto& v) {
+      count(v.size());
+      raw(v.data(), v.size() * sizeof(v[0]));
+    };
+    auto blocks = [&](const std::map<std::string, std::vector<ElementBlock>>& sets) {
+      count(sets.size());
+      for (const auto& [name, list] : sets) {
+        array(name);
+        count(list.size());
+        for (const ElementBlock& blk : list) {
+          const std::int32_t type = static_cast<std::int32_t>(blk.type);
+          raw(&type, sizeof type);
+          array(blk.conn);
+          array(blk.ids);
+        }
+      }
+    };
+    const std::int32_t dim = m.dim;
+    raw(&dim, sizeof dim);
+    array(m.nodes);
+    array(m.node_ids);
+    blocks(m.regions);
+    blocks(m.facet_sets);
+    count(m.node_sets.size());
+    for (const auto& [name, nodes] : m.node_sets) {
+      array(name);
+      array(nodes);
+    }
+    return b;
+  }
+  static Mesh unpack(const std::string& b) {
+    size_t at = 0;
+    auto raw = [&](void* p, size_t n) {
+      if (n > b.size() - at) throw Error("the mesh sent by rank 0 ends early");
+      std::memcpy(p, b.data() + at, n);
+      at += n;
+    };
+    auto count = [&]() {
+      std::uint64_t c = 0;
+      raw(&c, sizeof c);
+      return static_cast<size_t>(c);
+    };
+    auto array = [&](auto& v) {
+      v.resize(count());
+      raw(v.data(), v.size() * sizeof(v[0]));
+    };
+    auto blocks = [&](std::map<std::string, std::vector<ElementBlock>>& sets) {
+      for (size_t k = count(); k > 0; --k) {
+        std::string name;
+        array(name);
+        auto& list = sets[name];
+        list.resize(count());
+        for (ElementBlock& blk : list) {
+          std::int32_t type = 0;
+          raw(&type, sizeof type);
+          blk.type = static_cast<ElementType>(type);
+          array(blk.conn);
+          array(blk.ids);
+        }
+      }
+    };
+    Mesh m;
+    std::int32_t dim = 0;
+    raw(&dim, sizeof dim);
+    m.dim = dim;
+    array(m.nodes);
+    array(m.node_ids);
+    blocks(m.regions);
+    blocks(m.facet_sets);
+    for (size_t k = count(); k > 0; --k) {
+      std::string name;
+      array(name);
+      array(m.node_sets[name]);
+    }
+    if (at != b.size()) throw Error("the mesh sent by rank 0 has bytes left over");
+    return m;
+  }
+};
+static_assert(sizeof(Vec3) == 3 * sizeof(Real), "a node's coordinates are sent as their bytes");
+
+}  // namespace
+
+Mesh read_gmsh(const std::string& path, const GmshOptions& options) {
+  if (!options.ranks || options.ranks->size() <= 1) return read_gmsh_here(path, options);
+  // Under mpirun: rank 0 reads (runs gmsh, parses), its verdict and then its mesh go to the others.
+  const RankExchange& ranks = *options.ranks;
+  Mesh mesh;
+  std::string bytes;
+  on_rank0(ranks, [&] {
+    mesh = read_gmsh_here(path, options);
+    bytes = MeshBytes::pack(mesh);
+  });
+  ranks.broadcast(bytes, 0);
+  if (ranks.rank() != 0) mesh = MeshBytes::unpack(bytes);
+  log::debug("mesh '{}' read by rank 0 and sent to the {} other ranks ({:.1f} MB)", path, ranks.size() - 1,
+             static_cast<double>(bytes.size()) / 1e6);
   return mesh;
 }
 

@@ -16,10 +16,11 @@ struct GmshOptions {
   std::string where;                       // deck location for error messages
   bool trusted = false;                    // run a .geo's side effects (geo_side_effect)
   double max_elements = 2e7;               // a .geo meshing beyond this (estimated) stops with an error
-  // Under mpirun (every rank reads the deck): rank 0 alone runs the gmsh program (a .geo
-  // meshed, a .msh checked) and sends the other ranks its verdict and its mesh file, so that a
-  // node's ranks do not each mesh (p times the mesher's memory and time) and every rank reads
-  // the same mesh. Null (one process): this process does it all.
+  // Under mpirun (every rank reads the deck): rank 0 alone reads the mesh (runs the gmsh
+  // program, meshing a .geo or checking a .msh, and parses its output through the API) and
+  // sends the other ranks its verdict and then the Mesh, so that a node's ranks do not each
+  // mesh and parse (p times Gmsh's memory and time) and every rank holds the same mesh. Null
+  // (one process): this process reads it.
   const RankExchange* ranks = nullptr;
 };
 
