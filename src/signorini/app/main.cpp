@@ -71,7 +71,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   const Registry registry = default_registry();
   DeckReport rep;
   install_interrupt_handlers();  // Ctrl-C while a .geo is meshed stops the gmsh process too
-  // Under mpirun rank 0 alone meshes a .geo (or checks a .msh) and sends the others its mesh.
+  // Under mpirun rank 0 alone reads the mesh (gmsh, then the API) and sends it to the others.
 #ifdef SIGNORINI_HAVE_PETSC
   const std::unique_ptr<RankExchange> ranks_exchange = make_rank_exchange();  // null: one process
 #else

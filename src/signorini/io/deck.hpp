@@ -15,8 +15,8 @@ struct DeckReport {
   Index orphan_facets = 0;    // facets of a facet set that belong to no cell
 };
 
-// `ranks` (under mpirun, every rank reading the deck): a .geo is meshed by rank 0 alone
-// (GmshOptions::ranks).
+// `ranks` (under mpirun, every rank reading the deck): rank 0 alone reads a Gmsh mesh (meshes
+// the .geo or checks the .msh, and parses it) and sends it to the others (GmshOptions::ranks).
 Model read_deck(const std::string& path, const Registry& registry, DeckReport* report = nullptr,
                 const RankExchange* ranks = nullptr);
 
