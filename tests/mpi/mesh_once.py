@@ -1,5 +1,5 @@
-"""Under mpirun rank 0 alone runs the gmsh program (GmshOptions::ranks): a .geo meshed once and
-sent to the other ranks, a .msh checked once, a failed meshing reported (rank 0's message) by
+"""Under mpirun rank 0 alone reads the mesh (GmshOptions::ranks): a .geo meshed once, a .msh
+checked once, and the mesh sent to the other ranks; a failed meshing reported (rank 0's message) by
 every rank alike, without a hang. A `gmsh` first on PATH logs each call and runs the real one.
 
 Usage: mesh_once.py SIGNORINI EXAMPLE_DECK RANKS WORK
@@ -66,7 +66,7 @@ for a, b in zip(one["checks"], many["checks"]):
         failures.append("check '%s': %.9g on %d ranks (%.2e from one process's, pass: %s)" % (
             a["name"], b["computed"], ranks, rel, b["pass"]))
 
-# 2. A .msh: checked by one gmsh call (rank 0's), read by every rank.
+# 2. A .msh: checked by one gmsh call (rank 0's), read by rank 0 and sent to the others.
 geo = text.split("file: ", 1)[1].split("}", 1)[0].strip()
 msh = os.path.join(work, "mesh.msh")
 dim = "-2" if "plane_" in text or "axisymmetric" in text else "-3"

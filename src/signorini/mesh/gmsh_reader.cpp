@@ -309,7 +309,7 @@ std::string mesh_in_child(const std::string& exe, const std::string& geo, const 
   return child.keep(msh);
 }
 
-// Under mpirun: `work` (a gmsh process) on rank 0 alone, its verdict on every rank: nothing, or
+// Under mpirun: `work` (reading the mesh) on rank 0 alone, its verdict on every rank: nothing, or
 // the InputError it threw, which every rank then throws alike (so that they stop together,
 // rank 0 saying why).
 void on_rank0(const RankExchange& ranks, const std::function<void()>& work) {
