@@ -538,7 +538,11 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       backend_->save_values();
     }
     assemble_bodies([&](const Body& b) { return !split || !b.linear(); });
-    if (backend_->ranks() > 1) backend_->sum_over_ranks(fint.data(), fint.size());
+    if (backend_->ranks() > 1) {
+      log::Timer ts;
+      backend_->sum_cell_forces(fint);
+      log::debug("internal forces summed over {} ranks in {:.4f} s", backend_->ranks(), ts.seconds());
+    }
     if (reused) fint += f_linear;
     add_loads(previous_loads_, 1 - lambda, fext, tangent);
     add_loads(*current_loads_, lambda, fext, tangent);

@@ -74,7 +74,8 @@ class AlgebraBackend {
   // out: between begin_cells() and end_cells() each rank adds the entries of its own cells
   // (cell_owner()); outside, the code that every rank runs alike (loads, contact,
   // stabilization) is added by every rank for the rows it owns. The internal forces, summed
-  // per rank, are then made whole by sum_over_ranks().
+  // per rank, are then summed by the owners of their rows and made whole on every rank
+  // (sum_cell_forces()).
   virtual int ranks() const { return 1; }
   virtual int rank() const { return 0; }
   // The nodes' reference coordinates, for sharing out the cells (before build_pattern).
@@ -85,6 +86,11 @@ class AlgebraBackend {
   virtual void end_cells() {}
   // v[0..n) summed over the ranks, the same bits on every rank.
   virtual void sum_over_ranks(Real* v, Index n) {}
+  // f over all unknowns, in which each rank has added its own cells' entries (between
+  // begin_cells and end_cells, after a build_pattern): each row summed by the rank that owns
+  // it, from its own entries and the ghost entries the other ranks' cells added there, then
+  // the owned rows sent to every rank, so that f is whole, the same bits on every rank.
+  virtual void sum_cell_forces(VecX& f) { sum_over_ranks(f.data(), f.size()); }
   // Collective: whether any rank has a failure to report (its `message` not empty); the
   // lowest such rank's message is then in `message` on every rank.
   virtual bool any_failed(std::string& message) { return !message.empty(); }

@@ -617,6 +617,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE);
     pattern_nonzeros_ = global_nonzeros();
     check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
+    check(VecDuplicate(x_, &f_), "VecDuplicate");
     check(VecScatterCreateToAll(x_, &gather_, &x_all_), "VecScatterCreateToAll");
     dirty_ = false;
     nullspace_stale_ = true;
@@ -1160,6 +1161,43 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     else MPI_Reduce(v, nullptr, count, MPI_DOUBLE, MPI_SUM, 0, PETSC_COMM_WORLD);
     MPI_Bcast(v, count, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
   }
+  // The owners' sums: each rank sends its ghost rows' entries to their owners (point to
+  // point, neighbours only), each owner adds them to its own in rank order (the same bits from
+  // run to run), and the owned rows go to every rank through the solution's scatter. Until
+  // session 50 the whole vector was reduced on rank 0 and broadcast (sum_over_ranks): 2 x n
+  // values through rank 0 at every residual, against the cut's rows and one gather now.
+  void sum_cell_forces(VecX& f) override {
+    if (!f_ || f.size() != n_) {
+      sum_over_ranks(f.data(), f.size());
+      return;
+    }
+    // Entries outside the rows this rank's cells touch would be lost: a programming error.
+    for (Index i = 0; i < n_; ++i)
+      if (!touched_[i] && f(i) != 0.0)
+        throw Error(fmt::format("internal error: rank {} added an internal force into unknown {}, outside its cells' rows",
+                                rank_, i));
+    std::vector<std::vector<PetscScalar>> out(static_cast<size_t>(size_)), in(static_cast<size_t>(size_));
+    std::vector<MPI_Request> requests;
+    requests.reserve(2 * static_cast<size_t>(size_));
+    const int tag = 5150;
+    for (int r = 0; r < size_; ++r) {
+      if (mirror_of_[r].empty()) continue;
+      in[r].resize(mirror_of_[r].size());
+      requests.emplace_back();
+      MPI_Irecv(in[r].data(), static_cast<int>(in[r].size()), MPIU_SCALAR, r, tag, PETSC_COMM_WORLD, &requests.back());
+    }
+    for (int r = 0; r < size_; ++r) {
+      if (ghost_of_[r].empty()) continue;
+      for (Index i : ghost_of_[r]) out[r].push_back(f(i));
+      requests.emplace_back();
+      MPI_Isend(out[r].data(), static_cast<int>(out[r].size()), MPIU_SCALAR, r, tag, PETSC_COMM_WORLD, &requests.back());
+    }
+    MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+    for (int r = 0; r < size_; ++r)
+      for (size_t k = 0; k < in[r].size(); ++k) f(mirror_of_[r][k]) += in[r][k];
+    set_owned(f_, f);
+    gather(f_, f);
+  }
   bool any_failed(std::string& message) override {
     int first = message.empty() ? size_ : rank_;
     MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
@@ -1185,6 +1223,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (b_) VecDestroy(&b_);
     if (x_) VecDestroy(&x_);
     if (x_all_) VecDestroy(&x_all_);
+    if (f_) VecDestroy(&f_);
     if (gather_) VecScatterDestroy(&gather_);
   }
   // Collective: every rank calls it at the same point of the same code.
@@ -1396,6 +1435,46 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       row_[i] = i < slots * ndpn ? slot[i / ndpn] * ndpn + i % ndpn : i;
       unknown_[row_[i]] = i;
     }
+    find_ghosts(dofs, cells);
+  }
+  // The rows this rank's cells add into (touched_), those of them another rank owns (its
+  // ghosts, ghost_of_[owner]), and this rank's rows that each other rank's cells add into
+  // (mirror_of_[rank], told by that rank): sum_cell_forces()' lists, in the analysis' unknowns,
+  // ascending. Collective.
+  void find_ghosts(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
+    touched_.assign(static_cast<size_t>(n_), 0);
+    for (const ElementBlock* b : cells)
+      for (Index e = 0; e < b->size(); ++e) {
+        if (cell_owner(b, e) != rank_) continue;
+        const Index* c = b->element(e);
+        for (int a = 0; a < b->nodes_per_element(); ++a)
+          for (int d = 0; d < bs_ && dofs.has_dofs(c[a]); ++d) touched_[dofs.dof(c[a], d)] = 1;
+      }
+    ghost_of_.assign(static_cast<size_t>(size_), {});
+    for (Index i = 0; i < n_; ++i) {
+      if (!touched_[i]) continue;
+      const int owner = static_cast<int>(std::upper_bound(starts_.begin(), starts_.end(), row_[i]) - starts_.begin()) - 1;
+      if (owner != rank_) ghost_of_[owner].push_back(i);
+    }
+    std::vector<int> send(static_cast<size_t>(size_)), recv(static_cast<size_t>(size_)), sdispl(send), rdispl(recv);
+    for (int r = 0; r < size_; ++r) send[r] = static_cast<int>(ghost_of_[r].size());
+    MPI_Alltoall(send.data(), 1, MPI_INT, recv.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+    std::vector<Index> out, in;
+    for (int r = 0; r < size_; ++r) {
+      sdispl[r] = static_cast<int>(out.size());
+      out.insert(out.end(), ghost_of_[r].begin(), ghost_of_[r].end());
+      rdispl[r] = r ? rdispl[r - 1] + recv[r - 1] : 0;
+    }
+    in.resize(static_cast<size_t>(rdispl[size_ - 1] + recv[size_ - 1]));
+    MPI_Alltoallv(out.data(), send.data(), sdispl.data(), MPI_INT64_T, in.data(), recv.data(), rdispl.data(), MPI_INT64_T,
+                  PETSC_COMM_WORLD);
+    mirror_of_.assign(static_cast<size_t>(size_), {});
+    Index ghosts = 0;
+    for (int r = 0; r < size_; ++r) {
+      mirror_of_[r].assign(in.begin() + rdispl[r], in.begin() + rdispl[r] + recv[r]);
+      ghosts += static_cast<Index>(ghost_of_[r].size());
+    }
+    log::debug("rank {}: {} ghost rows of its cells, owned by other ranks", rank_, ghosts);
   }
 
   LinearSolverSettings s_;
@@ -1407,6 +1486,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
   std::vector<Index> starts_;               // first PETSc row of each rank (and the size)
   std::vector<Index> row_, unknown_;         // the analysis' unknown -> PETSc row, and back
+  std::vector<char> touched_;                // find_ghosts(): the rows this rank's cells add into
+  std::vector<std::vector<Index>> ghost_of_, mirror_of_;  // ... and those another rank owns, or it adds into
   const std::vector<Vec3>* X_ = nullptr;     // the nodes' reference coordinates
   std::unordered_map<const ElementBlock*, std::vector<int>> part_;  // each cell's rank
   Index nodal_ = 0;                          // the nodes' DOFs (the unknowns before the extras)
@@ -1418,6 +1499,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::vector<PetscInt> T_pattern_;          // T's pattern, this rank's rows (count, columns)
   Mat A_ = nullptr, T_ = nullptr, Kr_ = nullptr;  // J; the condensation's T and T^T J T
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
+  Vec f_ = nullptr;  // sum_cell_forces(): the owned rows
   VecScatter gather_ = nullptr;
   KSP ksp_ = nullptr;
   bool symmetric_ = true, configured_ = false, nullspace_stale_ = true, in_cells_ = false;
