@@ -44,7 +44,9 @@ copy = write_deck(work, text)
 
 # SIGNORINI_CHECK_CONDENSED_PRODUCT: the partitioned backend checks its T^T J T (condensed
 # contact multipliers) against PETSc's MatPtAP at every solve and stops the run if they differ.
-mpirun, env = launcher(SIGNORINI_CHECK_CONDENSED_PRODUCT="1")
+# SIGNORINI_CHECK_CELL_SUMS: it checks the owners' sums of the internal forces against the
+# whole vector's reduction at every residual, and stops the run if they differ.
+mpirun, env = launcher(SIGNORINI_CHECK_CONDENSED_PRODUCT="1", SIGNORINI_CHECK_CELL_SUMS="1")
 
 
 def run(n):

@@ -121,6 +121,11 @@ std::vector<CheckResult> evaluate_checks(const Analysis& a) {
         }
       } else if (c.kind == "contact_force") {
         r.computed = ci->slave_force()(c.component);
+      } else if (st.active.size() < cs.size()) {
+        // No contact state yet: the run stopped after the search but before the pair's first
+        // evaluation (a FatalModelError from the first assembly, e.g. the MPI owners' sums
+        // check; that crashed `signorini run` here). No zone to measure: the check fails.
+        r.computed = std::numeric_limits<Real>::quiet_NaN();
       } else {
         // Half-width: on each side of `at`, midway between the outermost closed node and the
         // nearest open one beyond (stick zone: the outermost sticking node and the nearest

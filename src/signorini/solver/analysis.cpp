@@ -1029,6 +1029,8 @@ Real Analysis::line_search(Real lambda, const NewtonSettings& ns, const VecX& u0
       new_norm = force_norm(Rtrial);
       ok = std::isfinite(new_norm);
       if (!ok) why = "a non-finite residual";
+    } catch (const FatalModelError&) {
+      throw;  // no shorter step cures it
     } catch (const SolverError& e) {
       ok = false;  // e.g. an element turned inside out: shorten the step
       why = e.what();
@@ -1244,6 +1246,8 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
         bool inverted = false;
         try {
           alpha = line_search(lambda, ns, u0, du, st.rnorm, Rtrial, new_scale, new_norm);
+        } catch (const FatalModelError&) {
+          throw;
         } catch (const SolverError&) {
           inverted = true;
         }

@@ -1171,11 +1171,21 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       sum_over_ranks(f.data(), f.size());
       return;
     }
-    // Entries outside the rows this rank's cells touch would be lost: a programming error.
-    for (Index i = 0; i < n_; ++i)
+    // Entries outside the rows this rank's cells touch would be lost: a programming error,
+    // reported by every rank alike (any_failed is collective: no rank left waiting below).
+    std::string stray;
+    for (Index i = 0; i < n_ && stray.empty(); ++i)
       if (!touched_[i] && f(i) != 0.0)
-        throw Error(fmt::format("internal error: rank {} added an internal force into unknown {}, outside its cells' rows",
-                                rank_, i));
+        stray = fmt::format("internal error: an internal force was added into unknown {}, outside the rows of the "
+                            "rank's own cells", i);
+    if (any_failed(stray)) throw FatalModelError(stray);
+    // SIGNORINI_CHECK_CELL_SUMS (the MPI tests): the owners' sums against the whole vector's
+    // reduction, at every call.
+    VecX reduced;
+    if (std::getenv("SIGNORINI_CHECK_CELL_SUMS")) {
+      reduced = f;
+      sum_over_ranks(reduced.data(), reduced.size());
+    }
     std::vector<std::vector<PetscScalar>> out(static_cast<size_t>(size_)), in(static_cast<size_t>(size_));
     std::vector<MPI_Request> requests;
     requests.reserve(2 * static_cast<size_t>(size_));
@@ -1197,6 +1207,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       for (size_t k = 0; k < in[r].size(); ++k) f(mirror_of_[r][k]) += in[r][k];
     set_owned(f_, f);
     gather(f_, f);
+    if (reduced.size()) {
+      const Real scale = reduced.cwiseAbs().maxCoeff(), diff = (f - reduced).cwiseAbs().maxCoeff();
+      log::debug("internal forces, owners' sums against the reduction: {:.1e} (relative)", scale > 0 ? diff / scale : diff);
+      if (!(diff <= 1e-12 * scale))
+        throw FatalModelError(fmt::format("the owners' sums of the internal forces differ from their reduction by {:.3e} "
+                                          "(relative)", scale > 0 ? diff / scale : diff));
+    }
   }
   bool any_failed(std::string& message) override {
     int first = message.empty() ? size_ : rank_;
