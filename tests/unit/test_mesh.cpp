@@ -80,6 +80,70 @@ TEST(Mesh, FacetsAreOrientedOutward) {
     }
 }
 
+// 3D: every facet of a set mirrored, on linear and quadratic cells, is given back the node
+// list of the cell facet it lies on (the first orientation pass's result); a facet on no cell,
+// and a tri3 facet on tet10 cells (node counts differ), are counted as orphans and left alone.
+TEST(Mesh, FacetsAreOrientedOutwardIn3D) {
+  for (ElementType type : {ElementType::tet4, ElementType::tet10, ElementType::hex8, ElementType::hex20}) {
+    SCOPED_TRACE(element_info(type).name);
+    Mesh m = structured_box(type, 2, 3, 2, 1.0, 1.5, 1.0);
+    ASSERT_EQ(orient_facets(m), 0);
+    const std::vector<ElementBlock> outward = m.facet_sets.at("xmax");
+    for (auto& b : m.facet_sets["xmax"]) {
+      const ElementInfo& info = element_info(b.type);
+      const int nn = info.num_nodes;
+      for (Index e = 0; e < b.size(); ++e) {
+        std::vector<Index> old(b.conn.begin() + e * nn, b.conn.begin() + (e + 1) * nn);
+        for (int i = 0; i < nn; ++i) b.conn[e * nn + i] = old[info.mirror[i]];
+      }
+    }
+    ElementBlock stray = m.facet_sets["xmax"].front();
+    const Index nn = stray.nodes_per_element();
+    stray.conn.resize(nn);
+    stray.ids.resize(1);
+    stray.conn[0] = m.node_sets.at("xmin").front();  // a corner on x = 0, the others on x = 1: no cell spans 2 cells
+    const std::vector<Index> stray_nodes = stray.conn;
+    m.facet_sets["stray"] = {stray};
+    EXPECT_EQ(orient_facets(m), 1);
+    EXPECT_EQ(m.facet_sets["stray"].front().conn, stray_nodes);
+    const auto& fixed = m.facet_sets.at("xmax");
+    ASSERT_EQ(fixed.size(), outward.size());
+    for (size_t k = 0; k < fixed.size(); ++k) EXPECT_EQ(fixed[k].conn, outward[k].conn);
+    for (auto& b : fixed)
+      for (Index e = 0; e < b.size(); ++e) {
+        const Index* c = b.element(e);
+        const Vec3 normal = (m.nodes[c[1]] - m.nodes[c[0]]).cross(m.nodes[c[2]] - m.nodes[c[0]]);
+        EXPECT_GT(normal(0), 0) << "the facet's normal must point out of the box, to +x";
+      }
+  }
+  // tri3 facets on tet10 cells: the corners match, the node counts do not.
+  Mesh q = structured_box(ElementType::tet10, 1, 1, 1, 1.0, 1.0, 1.0);
+  ElementBlock linear{ElementType::tri3, {}, {}};
+  for (const ElementBlock& b : q.facet_sets.at("xmax"))
+    for (Index e = 0; e < b.size(); ++e) linear.add({b.element(e)[0], b.element(e)[1], b.element(e)[2]}, b.ids[e]);
+  const Index count = linear.size();
+  q.facet_sets["xmax_linear"] = {linear};
+  EXPECT_EQ(orient_facets(q), count);
+}
+
+// A region's or facet set's node set, made when the mesh has none of that name: its nodes,
+// sorted, each once.
+TEST(Mesh, NodeSetsAreCompletedFromRegionsAndFacetSets) {
+  Mesh m = structured_box(ElementType::hex20, 2, 2, 3, 1.0, 1.0, 1.5);
+  for (const std::string name : {"domain", "zmax"}) {
+    const auto& blocks = name == "domain" ? m.regions.at(name) : m.facet_sets.at(name);
+    std::vector<Index> expected;
+    for (const ElementBlock& b : blocks) expected.insert(expected.end(), b.conn.begin(), b.conn.end());
+    std::sort(expected.begin(), expected.end());
+    expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+    m.node_sets.erase(name);
+    m.complete_node_sets();
+    EXPECT_EQ(m.node_sets.at(name), expected) << name;
+  }
+  EXPECT_EQ(static_cast<Index>(m.node_sets.at("domain").size()), m.num_nodes());
+  for (Index n : m.node_sets.at("zmax")) EXPECT_NEAR(m.nodes[n](2), 1.5, 1e-12);
+}
+
 TEST(Mesh, MissingAndBrokenFilesGiveClearErrors) {
   EXPECT_THROW(read_gmsh("/nonexistent.msh"), InputError);
   const fs::path bad = fs::temp_directory_path() / "signorini_broken.geo";

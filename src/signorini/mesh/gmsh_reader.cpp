@@ -552,6 +552,12 @@ Mesh read_gmsh_here(const std::string& path, const GmshOptions& options) {
           ElementType et = element_type_from_gmsh(types[k]);
           auto& b = blocks.try_emplace(et, ElementBlock{et, {}, {}}).first->second;
           const int nn = element_info(et).num_nodes;
+          // Grown once per entity (a group's cells are mostly in one entity): no doubling and its
+          // slack, which stayed in the body the cells are moved into.
+          if (const size_t need = b.conn.size() + etags[k].size() * nn; need > b.conn.capacity()) {
+            b.conn.reserve(std::max(need, b.conn.capacity() + b.conn.capacity() / 2));
+            b.ids.reserve(std::max(b.ids.size() + etags[k].size(), b.ids.capacity() + b.ids.capacity() / 2));
+          }
           for (size_t e = 0; e < etags[k].size(); ++e) {
             for (int a = 0; a < nn; ++a) b.conn.push_back(index.at(enodes[k][e * nn + a]));
             b.ids.push_back(static_cast<Index>(etags[k][e]));
@@ -560,7 +566,11 @@ Mesh read_gmsh_here(const std::string& path, const GmshOptions& options) {
       }
       if (d == dim || d == dim - 1) {
         auto& target = d == dim ? mesh.regions[name] : mesh.facet_sets[name];
-        for (auto& [et, b] : blocks) target.push_back(std::move(b));
+        for (auto& [et, b] : blocks) {
+          b.conn.shrink_to_fit();
+          b.ids.shrink_to_fit();
+          target.push_back(std::move(b));
+        }
       }
       std::vector<std::size_t> ntags;
       std::vector<double> ncoords;
@@ -592,8 +602,15 @@ Mesh read_gmsh_here(const std::string& path, const GmshOptions& options) {
 class MeshBytes {
  public:
   static std::string pack(const Mesh& m) {
+    // Two passes: the size, then the bytes into a string of that size (appending alone grows it
+    // by doubling, up to about three times the mesh's bytes at once while it is copied).
     std::string b;
-    auto raw = [&](const void* p, size_t n) { b.append(static_cast<const char*>(p), n); };
+    size_t size = 0;
+    bool sizing = true;
+    auto raw = [&](const void* p, size_t n) {
+      if (sizing) size += n;
+      else b.append(static_cast<const char*>(p), n);
+    };
     auto count = [&](size_t n) {
       const std::uint64_t c = n;
       raw(&c, sizeof c);
@@ -615,17 +632,23 @@ class MeshBytes {
         }
       }
     };
-    const std::int32_t dim = m.dim;
-    raw(&dim, sizeof dim);
-    array(m.nodes);
-    array(m.node_ids);
-    blocks(m.regions);
-    blocks(m.facet_sets);
-    count(m.node_sets.size());
-    for (const auto& [name, nodes] : m.node_sets) {
-      array(name);
-      array(nodes);
-    }
+    auto all = [&] {
+      const std::int32_t dim = m.dim;
+      raw(&dim, sizeof dim);
+      array(m.nodes);
+      array(m.node_ids);
+      blocks(m.regions);
+      blocks(m.facet_sets);
+      count(m.node_sets.size());
+      for (const auto& [name, nodes] : m.node_sets) {
+        array(name);
+        array(nodes);
+      }
+    };
+    all();
+    b.reserve(size);
+    sizing = false;
+    all();
     return b;
   }
   static Mesh unpack(const std::string& b) {
