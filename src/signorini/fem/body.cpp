@@ -300,9 +300,17 @@ Real Body::volume(const std::vector<Vec3>& X) const {
 CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
                           const QuadratureHistory* history, const std::vector<std::vector<char>>* owned) const {
   CellResults r;
+  if (owned && owned->size() != blocks_.size()) throw Error("body " + name_ + ": the output's cell mask has the wrong size");
+  // The cells evaluated, block by block: all, or the rank's own (their results held in this
+  // order, not in a whole body's arrays: 104 bytes per cell of the whole model on every rank).
+  std::vector<std::vector<Index>> cells(blocks_.size());
+  for (size_t bi = 0; bi < blocks_.size(); ++bi)
+    for (Index e = 0; e < blocks_[bi].size(); ++e)
+      if (!owned || (*owned)[bi].at(static_cast<size_t>(e))) cells[bi].push_back(e);
   if (rigid()) {
     // Rigid cells: no strain, and their stress is not defined by a constitutive law (zero).
-    const Index n = num_cells();
+    size_t n = 0;
+    for (const auto& c : cells) n += c.size();
     r.stress.assign(n, Vec6::Zero());
     r.strain.assign(n, Vec6::Zero());
     r.von_mises.assign(n, 0.0);
@@ -316,9 +324,11 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
     const BlockCache& c = caches_[bi];
     const Index nq = static_cast<Index>(c.rule.size());
     const Index start = static_cast<Index>(r.stress.size());
-    r.stress.resize(start + b.size(), Vec6::Zero());
-    r.strain.resize(start + b.size(), Vec6::Zero());
-    r.von_mises.resize(start + b.size(), 0.0);
+    const std::vector<Index>& list = cells[bi];
+    const Index count = static_cast<Index>(list.size());
+    r.stress.resize(start + count, Vec6::Zero());
+    r.strain.resize(start + count, Vec6::Zero());
+    r.von_mises.resize(start + count, 0.0);
 #pragma omp parallel
     {
       std::vector<Vec3> Xe;
@@ -326,15 +336,15 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
       std::vector<Index> edofs;
       std::vector<Real> hnew(nq * hs);
 #pragma omp for schedule(static)
-      for (Index e = 0; e < b.size(); ++e) {
-        if (owned && !(*owned)[bi][e]) continue;
+      for (Index k = 0; k < count; ++k) {
+        const Index e = list[k];
         gather(b, e, X, u, dofs, Xe, ue, edofs);
         Vec6 s, eps;
         element(b.type, Xe, ue, hs ? history->committed(bi, e) : nullptr, hs ? hnew.data() : nullptr, fe, nullptr, &s,
                 &eps);
-        r.stress[start + e] = s;
-        r.strain[start + e] = eps;
-        r.von_mises[start + e] =
+        r.stress[start + k] = s;
+        r.strain[start + k] = eps;
+        r.von_mises[start + k] =
             std::sqrt(0.5 * ((s(0) - s(1)) * (s(0) - s(1)) + (s(1) - s(2)) * (s(1) - s(2)) +
                              (s(2) - s(0)) * (s(2) - s(0))) +
                       3 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5)));

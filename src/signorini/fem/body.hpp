@@ -77,7 +77,7 @@ class Body {
                       Real scale, VecX& fext) const;
   // Per-cell averages of stress and strain at the state `u` (from the committed history).
   // `owned` (an MPI rank's piece of the output): per block, the cells to evaluate (null: all);
-  // the others' entries stay zero.
+  // the results then hold those cells only, block by block in cell order.
   CellResults results(const std::vector<Vec3>& X, const VecX& u, const DofMap& dofs,
                       const QuadratureHistory* history = nullptr,
                       const std::vector<std::vector<char>>* owned = nullptr) const;

@@ -250,9 +250,9 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   for (size_t bi = 0; bi < m.bodies.size(); ++bi) {
     const Body& b = *m.bodies[bi];
     CellResults r = b.results(m.mesh.nodes, a.displacement(), dofs, &a.history(bi), pieces ? a.owned_cells(bi) : nullptr);
-    size_t c = 0;
+    size_t c = 0;  // r holds the kept cells only, in this order
     for (size_t blk = 0; blk < b.blocks().size(); ++blk)
-      for (Index e = 0; e < b.blocks()[blk].size(); ++e, ++c) {
+      for (Index e = 0; e < b.blocks()[blk].size(); ++e) {
         if (!kept(bi, blk, e)) continue;
         for (int k = 0; k < 6; ++k) {
           stress.values.push_back(r.stress[c](order[k]));
@@ -261,6 +261,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         vm.values.push_back(r.von_mises[c]);
         body.values.push_back(static_cast<Real>(bi));
         cell_id.values.push_back(static_cast<Real>(b.blocks()[blk].ids[e]));
+        ++c;
       }
   }
   for (VtuField* f : {&stress, &strain, &vm, &body, &cell_id}) d.cell_fields.push_back(std::move(*f));
