@@ -302,7 +302,7 @@ CellResults Body::results(const std::vector<Vec3>& X, const VecX& u, const DofMa
   CellResults r;
   if (owned && owned->size() != blocks_.size()) throw Error("body " + name_ + ": the output's cell mask has the wrong size");
   // The cells evaluated, block by block: all, or the rank's own (their results held in this
-  // order, not in a whole body's arrays: 104 bytes per cell of the whole model on every rank).
+  // order, not in a whole body's arrays: 104 bytes per cell of the body on every rank).
   std::vector<std::vector<Index>> cells(blocks_.size());
   for (size_t bi = 0; bi < blocks_.size(); ++bi)
     for (Index e = 0; e < blocks_[bi].size(); ++e)
