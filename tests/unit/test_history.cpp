@@ -143,3 +143,69 @@ TEST(History, EachRankHoldsItsOwnCells) {
   EXPECT_THROW(QuadratureHistory(b, &short_mask), Error);
   EXPECT_THROW(QuadratureHistory(b, &no_mask), Error);
 }
+
+// Partitioned over MPI ranks, each rank keeps its own cells of a body (Body::keep_cells, issue
+// 15) and drops the others: the kept cells stay in order with their nodes and ids, the history
+// of the share keeps the whole body's layout (a restart file), and the body force of the
+// shares adds up to the whole body's.
+TEST(History, ABodyKeepsItsShareOfTheCells) {
+  Mesh m = structured_rectangle(ElementType::quad4, 3, 1, 3, 1);
+  AnalysisSettings st;
+  const std::vector<ElementBlock> cells = m.regions["domain"];
+  Body whole("b", cells, std::make_shared<CountingMaterial>(), st), mine("b", cells, std::make_shared<CountingMaterial>(), st),
+      theirs("b", cells, std::make_shared<CountingMaterial>(), st);
+  DofMap d(m.num_nodes(), 2, test::cells_of(whole));
+  mine.keep_cells({{1, 0, 1}});
+  theirs.keep_cells({{0, 1, 0}});
+  ASSERT_EQ(mine.num_cells(), 2);
+  ASSERT_EQ(theirs.num_cells(), 1);
+  EXPECT_EQ(mine.whole_cells(0), 3);
+  EXPECT_EQ(mine.whole_index(0, 1), 2);
+  EXPECT_EQ(theirs.whole_index(0, 0), 1);
+  EXPECT_EQ(whole.whole_index(0, 2), 2);
+  const ElementBlock& all = whole.blocks()[0];
+  EXPECT_EQ(mine.blocks()[0].ids, (std::vector<Index>{all.ids[0], all.ids[2]}));
+  for (int a = 0; a < 4; ++a) {
+    EXPECT_EQ(mine.blocks()[0].element(1)[a], all.element(2)[a]);
+    EXPECT_EQ(theirs.blocks()[0].element(0)[a], all.element(1)[a]);
+  }
+  // The memory of the dropped cells is given back.
+  EXPECT_EQ(mine.blocks()[0].conn.capacity(), 8u);
+  // The shares' histories in the whole layout: each cell's values where the whole body has them.
+  const std::vector<std::vector<char>> held_mine{{1, 1}}, held_theirs{{1}};
+  QuadratureHistory hw(whole), hm(mine, &held_mine), ht(theirs, &held_theirs);
+  ASSERT_EQ(hm.whole_size(), 12);
+  ASSERT_EQ(ht.whole_size(), 12);
+  EXPECT_THROW(QuadratureHistory(mine, nullptr), Error);  // a share needs its mask
+  VecX u = VecX::Zero(d.num_dofs()), f = u;
+  whole.assemble(m.nodes, u, d, f, nullptr, &hw);
+  mine.assemble(m.nodes, u, d, f, nullptr, &hm, 0, &held_mine);
+  hw.commit();
+  hm.commit();
+  EXPECT_EQ(hm.whole_committed(), (std::vector<Real>{1, 1, 1, 1, 0, 0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(ht.whole_committed(), (std::vector<Real>(12, 0.0)));
+  std::vector<Real> restart(12);
+  for (size_t k = 0; k < restart.size(); ++k) restart[k] = static_cast<Real>(k);
+  ht.restore(restart);
+  EXPECT_EQ(ht.committed(0, 0)[0], 4);  // the whole body's cell 1
+  EXPECT_EQ(ht.whole_committed(), (std::vector<Real>{0, 0, 0, 0, 4, 5, 6, 7, 0, 0, 0, 0}));
+  // Kept again (a share of the share): the whole body's indices carry through.
+  Body again("b", cells, std::make_shared<CountingMaterial>(), st);
+  again.keep_cells({{1, 0, 1}});
+  again.keep_cells({{0, 1}});
+  ASSERT_EQ(again.num_cells(), 1);
+  EXPECT_EQ(again.whole_index(0, 0), 2);
+  EXPECT_EQ(again.whole_cells(0), 3);
+  // The body force: the shares' sum is the whole body's.
+  VecX fw = VecX::Zero(d.num_dofs()), fs = fw;
+  whole.add_body_force(m.nodes, d, Vec3(1, -2, 0), 0.5, fw);
+  mine.add_body_force(m.nodes, d, Vec3(1, -2, 0), 0.5, fs);
+  theirs.add_body_force(m.nodes, d, Vec3(1, -2, 0), 0.5, fs);
+  EXPECT_LT((fs - fw).norm(), 1e-14 * fw.norm());
+  // With an ownership mask, only the owned cells add.
+  VecX fo = VecX::Zero(d.num_dofs());
+  const std::vector<std::vector<char>> first{{1, 0}};
+  mine.add_body_force(m.nodes, d, Vec3(1, -2, 0), 0.5, fo, &first);
+  EXPECT_NEAR(fo.sum(), -0.5 * whole.volume(m.nodes) / 3, 1e-14);
+  EXPECT_THROW(mine.keep_cells({{1, 0, 1}}), Error);  // a mask per held cell
+}

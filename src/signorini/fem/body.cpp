@@ -32,6 +32,37 @@ Index Body::num_cells() const {
   return n;
 }
 
+void Body::keep_cells(const std::vector<std::vector<char>>& keep) {
+  if (keep.size() != blocks_.size()) throw Error("body " + name_ + ": one mask of kept cells per block expected");
+  const bool first = whole_index_.empty();
+  if (first) {
+    whole_cells_.resize(blocks_.size());
+    whole_index_.resize(blocks_.size());
+  }
+  for (size_t bi = 0; bi < blocks_.size(); ++bi) {
+    ElementBlock& b = blocks_[bi];
+    if (static_cast<Index>(keep[bi].size()) != b.size()) throw Error("body " + name_ + ": a mask of the wrong size");
+    const int nn = b.nodes_per_element();
+    Index kept = 0;
+    for (char k : keep[bi]) kept += k ? 1 : 0;
+    // New vectors of the kept size: the dropped cells' memory is given back.
+    std::vector<Index> conn, ids, where;
+    conn.reserve(static_cast<size_t>(kept * nn));
+    ids.reserve(static_cast<size_t>(kept));
+    where.reserve(static_cast<size_t>(kept));
+    for (Index e = 0; e < b.size(); ++e) {
+      if (!keep[bi][static_cast<size_t>(e)]) continue;
+      conn.insert(conn.end(), b.element(e), b.element(e) + nn);
+      ids.push_back(b.ids[static_cast<size_t>(e)]);
+      where.push_back(first ? e : whole_index_[bi][static_cast<size_t>(e)]);
+    }
+    if (first) whole_cells_[bi] = b.size();
+    b.conn = std::move(conn);
+    b.ids = std::move(ids);
+    whole_index_[bi] = std::move(where);
+  }
+}
+
 const Body::BlockCache& Body::cache(ElementType t) const {
   for (size_t i = 0; i < blocks_.size(); ++i)
     if (blocks_[i].type == t) return caches_[i];
@@ -247,13 +278,14 @@ void Body::assemble(const std::vector<Vec3>& X, const VecX& u, const DofMap& dof
   }
 }
 
-void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& bf, Real scale,
-                          VecX& fext) const {
-  add_body_force(X, dofs, [&](const Vec3&) { return bf; }, scale, fext);
+void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& bf, Real scale, VecX& fext,
+                          const std::vector<std::vector<char>>* owned) const {
+  add_body_force(X, dofs, [&](const Vec3&) { return bf; }, scale, fext, owned);
 }
 
 void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const std::function<Vec3(const Vec3&)>& bfun,
-                          Real scale, VecX& fext) const {
+                          Real scale, VecX& fext, const std::vector<std::vector<char>>* owned) const {
+  if (owned && owned->size() != blocks_.size()) throw Error("body " + name_ + ": the body force's cell mask has the wrong size");
   const int dim = dofs.dofs_per_node();
   const bool axi = settings_.dimension == Dimension::axisymmetric;
   for (size_t bi = 0; bi < blocks_.size(); ++bi) {
@@ -261,6 +293,7 @@ void Body::add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const 
     const BlockCache& c = caches_[bi];
     const int nn = b.nodes_per_element();
     for (Index e = 0; e < b.size(); ++e) {
+      if (owned && !(*owned)[bi].at(static_cast<size_t>(e))) continue;
       const Index* cn = b.element(e);
       for (size_t q = 0; q < c.rule.size(); ++q) {
         Mat3 J = Mat3::Identity();

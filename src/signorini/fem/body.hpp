@@ -59,7 +59,16 @@ class Body {
   // unknown of its own (set when a step prescribes the angle or loads it by a moment).
   bool turns() const { return turns_; }
   void set_turns(bool t) { turns_ = t; }
+  // The cells held here (after keep_cells, this MPI rank's share of the body).
   Index num_cells() const;
+  // Partitioned over MPI ranks: keep only the cells marked (per block), the others dropped
+  // (their connectivity and ids freed). The kept cells stay in their order; where each sat
+  // in the whole body is remembered (whole_index), for the layouts that span the whole body
+  // (a restart file's history).
+  void keep_cells(const std::vector<std::vector<char>>& keep);
+  // Block b's cell count in the whole body, and the whole body's index of its held cell e.
+  Index whole_cells(size_t b) const { return whole_index_.empty() ? blocks_[b].size() : whole_cells_[b]; }
+  Index whole_index(size_t b, Index e) const { return whole_index_.empty() ? e : whole_index_[b][static_cast<size_t>(e)]; }
 
   // Adds internal forces to `fint` (full DOF vector) and, if `matrix` is not null, the
   // tangent. Reads the committed history and writes the trial one of `history` (the body's,
@@ -70,11 +79,11 @@ class Body {
                 QuadratureHistory* history = nullptr, Real dt = 0,
                 const std::vector<std::vector<char>>* owned = nullptr) const;
   // Adds the consistent nodal forces of a dead body force b (per unit reference volume),
-  // uniform or a function of the reference position.
-  void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale,
-                      VecX& fext) const;
+  // uniform or a function of the reference position. `owned`: as in assemble.
+  void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const Vec3& b, Real scale, VecX& fext,
+                      const std::vector<std::vector<char>>* owned = nullptr) const;
   void add_body_force(const std::vector<Vec3>& X, const DofMap& dofs, const std::function<Vec3(const Vec3&)>& b,
-                      Real scale, VecX& fext) const;
+                      Real scale, VecX& fext, const std::vector<std::vector<char>>* owned = nullptr) const;
   // Per-cell averages of stress and strain at the state `u` (from the committed history).
   // `owned` (an MPI rank's piece of the output): per block, the cells to evaluate (null: all);
   // the results then hold those cells only, block by block in cell order.
@@ -107,6 +116,8 @@ class Body {
   std::vector<BlockCache> caches_;  // one per block
   std::vector<Index> reference_;
   bool turns_ = false;
+  std::vector<Index> whole_cells_;               // after keep_cells: each block's whole count
+  std::vector<std::vector<Index>> whole_index_;  // after keep_cells: each held cell's whole index
 };
 
 }  // namespace signorini

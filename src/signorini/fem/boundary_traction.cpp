@@ -50,6 +50,20 @@ std::vector<Index> BoundaryTraction::locate(const std::vector<std::vector<Index>
   return handle;
 }
 
+void BoundaryTraction::mark_needed(const ElementBlock* block, std::vector<char>& keep) const {
+  for (const Owner& o : owners_)
+    if (cells_[o.cells].block == block) keep.at(static_cast<size_t>(o.element)) = 1;
+}
+
+void BoundaryTraction::renumber(const ElementBlock* block, const std::vector<Index>& index) {
+  for (Owner& o : owners_) {
+    if (cells_[o.cells].block != block) continue;
+    const Index k = index.at(static_cast<size_t>(o.element));
+    if (k < 0) throw Error("the boundary traction's cell " + std::to_string(o.element) + " was dropped");
+    o.element = k;
+  }
+}
+
 std::vector<Index> BoundaryTraction::cell_nodes(Index handle) const {
   const Owner& o = owners_.at(handle);
   const ElementBlock& b = *cells_[o.cells].block;

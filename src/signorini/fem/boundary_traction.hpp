@@ -29,6 +29,12 @@ class BoundaryTraction {
   // The cell that owns each facet (node lists in the facet's order): a handle, -1 for a facet
   // no cell owns.
   std::vector<Index> locate(const std::vector<std::vector<Index>>& facets) const;
+  // Marks in `keep` (one flag per cell of `block`) the cells that own a facet located so far
+  // (Body::keep_cells must keep them).
+  void mark_needed(const ElementBlock* block, std::vector<char>& keep) const;
+  // The block's cells renumbered (Body::keep_cells): cell e is now `index[e]` (-1: dropped,
+  // which a cell that owns a located facet must not be).
+  void renumber(const ElementBlock* block, const std::vector<Index>& index);
   // The owning cell's nodes and its material's stiffness scale (Young's modulus).
   std::vector<Index> cell_nodes(Index handle) const;
   Real stiffness(Index handle) const;

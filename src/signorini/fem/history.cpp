@@ -13,26 +13,29 @@ QuadratureHistory::QuadratureHistory(const Body& body, const std::vector<std::ve
   const Material& m = body.material();
   per_point_ = m.history_size();
   names_ = m.history_names();
+  if (per_point_ == 0) return;  // nothing to hold
   if (held && held->size() != body.blocks().size())
     throw Error("QuadratureHistory: one mask of held cells per block expected");
   Index whole = 0, stored = 0;
   for (size_t b = 0; b < body.blocks().size(); ++b) {
     const Index cells = body.blocks()[b].size();
+    // The whole layout spans the whole body's cells (after Body::keep_cells, more than held here).
     block_offset_.push_back(whole);
     per_element_.push_back(body.points_per_element(b) * per_point_);
-    whole += cells * per_element_.back();
-    if (!held) continue;
+    whole += body.whole_cells(b) * per_element_.back();
+    if (!held) {
+      if (body.whole_cells(b) != cells) throw Error("QuadratureHistory: a share of a body's cells needs its mask");
+      continue;
+    }
     if (static_cast<Index>((*held)[b].size()) != cells) throw Error("QuadratureHistory: a mask of the wrong size");
+    whole_index_.emplace_back();
+    for (Index e = 0; e < cells; ++e) whole_index_.back().push_back(body.whole_index(b, e));
     held_offset_.emplace_back(static_cast<size_t>(cells), -1);
     for (Index e = 0; e < cells; ++e)
       if ((*held)[b][static_cast<size_t>(e)]) {
         held_offset_.back()[static_cast<size_t>(e)] = stored;
         stored += per_element_.back();
       }
-  }
-  if (per_point_ == 0) {
-    held_offset_.clear();
-    return;
   }
   whole_size_ = whole;
   committed_.resize(static_cast<size_t>(held ? stored : whole));
@@ -48,7 +51,7 @@ std::vector<Real> QuadratureHistory::whole_committed() const {
     for (size_t e = 0; e < held_offset_[b].size(); ++e)
       if (const Index k = held_offset_[b][e]; k >= 0)
         std::copy_n(committed_.begin() + k, per_element_[b],
-                    whole.begin() + block_offset_[b] + static_cast<Index>(e) * per_element_[b]);
+                    whole.begin() + block_offset_[b] + whole_index_[b][e] * per_element_[b]);
   return whole;
 }
 
@@ -63,7 +66,7 @@ void QuadratureHistory::restore(const std::vector<Real>& whole) {
   for (size_t b = 0; b < held_offset_.size(); ++b)
     for (size_t e = 0; e < held_offset_[b].size(); ++e)
       if (const Index k = held_offset_[b][e]; k >= 0)
-        std::copy_n(whole.begin() + block_offset_[b] + static_cast<Index>(e) * per_element_[b], per_element_[b],
+        std::copy_n(whole.begin() + block_offset_[b] + whole_index_[b][e] * per_element_[b], per_element_[b],
                     committed_.begin() + k);
   trial_ = committed_;
 }

@@ -63,6 +63,7 @@ class QuadratureHistory {
   Index whole_size_ = 0;
   std::vector<Index> block_offset_, per_element_;  // the whole layout
   std::vector<std::vector<Index>> held_offset_;    // with `held`: each cell's first value, -1 if not held
+  std::vector<std::vector<Index>> whole_index_;    // each cell's place in the whole body (Body::whole_index)
   std::vector<Real> committed_, trial_;
   std::vector<std::string> names_;
 };

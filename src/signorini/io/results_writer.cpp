@@ -195,18 +195,12 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   VtuField reac{"reaction_force", 3, std::vector<Real>(3 * m.mesh.num_nodes(), 0.0), {}};
   // A turning rigid body's nodes are not at their DOFs' translation alone: their displacement
   // is the current position less the reference one (the others' is their DOFs', exactly).
-  std::vector<char> turns(m.mesh.num_nodes(), 0);
-  for (size_t b : a.turning_bodies()) {
-    for (const ElementBlock& blk : m.bodies[b]->blocks())
-      for (Index n : blk.conn) turns[n] = 1;
-    for (Index n : m.bodies[b]->reference_nodes()) turns[n] = 1;
-  }
   const std::vector<Vec3> xcur = a.turning_bodies().empty() ? std::vector<Vec3>() : a.positions(a.displacement());
   for (Index n = 0; n < m.mesh.num_nodes(); ++n)
     for (int i = 0; i < dim; ++i) {
       const Index k = dofs.dof(n, i);
       if (k < 0) continue;
-      disp.values[3 * n + i] = turns[n] ? xcur[n](i) - m.mesh.nodes[n](i) : a.displacement()(k);
+      disp.values[3 * n + i] = a.node_turns(n) ? xcur[n](i) - m.mesh.nodes[n](i) : a.displacement()(k);
       reac.values[3 * n + i] = a.reactions()(k);
     }
   // The ids the mesh file gives the nodes and cells (Gmsh tags), for finding them in ParaView.
@@ -313,14 +307,12 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
       global.push_back(n);
     };
     std::vector<ElementBlock> blocks;
-    std::vector<char> in_cells(m.mesh.num_nodes(), 0);
     for (size_t bi = 0; bi < m.bodies.size(); ++bi)
       for (size_t blk = 0; blk < m.bodies[bi]->blocks().size(); ++blk) {
         const ElementBlock& src = m.bodies[bi]->blocks()[blk];
         ElementBlock piece{src.type, {}, {}};
         const int nn = src.nodes_per_element();
         for (Index e = 0; e < src.size(); ++e) {
-          for (int k = 0; k < nn; ++k) in_cells[src.element(e)[k]] = 1;
           if (!kept(bi, blk, e)) continue;
           for (int k = 0; k < nn; ++k) {
             use(src.element(e)[k]);
@@ -330,9 +322,9 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         }
         if (piece.size()) blocks.push_back(std::move(piece));
       }
+    // (the ranks hold their own cells only: the analysis kept the nodes in no cell of the mesh)
     if (a.rank() == 0)
-      for (Index n = 0; n < m.mesh.num_nodes(); ++n)
-        if (!in_cells[n]) use(n);
+      for (Index n : *a.cellless_nodes()) use(n);
     for (VtuField& f : d.point_fields) {
       std::vector<Real> v;
       v.reserve(global.size() * f.components);

@@ -35,21 +35,15 @@ constexpr int kContinuationAttempts = 4;
 // A rigid motion of the body that no Dirichlet condition stops, described in words, or ""
 // if there is none. The rigid modes (translations, rotations about the centroid scaled by
 // the body size) restricted to the constrained DOFs must have full rank.
-std::string free_rigid_motion(const Body& body, const Mesh& mesh, const DofMap& dofs,
+std::string free_rigid_motion(const std::vector<Index>& nodes, const Mesh& mesh, const DofMap& dofs,
                               const std::vector<char>& constrained, Dimension dim) {
-  std::vector<char> used(mesh.num_nodes(), 0);
   Vec3 lo = Vec3::Constant(1e300), hi = -lo, c = Vec3::Zero();
-  Index count = 0;
-  for (auto& b : body.blocks())
-    for (Index n : b.conn)
-      if (!used[n]) {
-        used[n] = 1;
-        lo = lo.cwiseMin(mesh.nodes[n]);
-        hi = hi.cwiseMax(mesh.nodes[n]);
-        c += mesh.nodes[n];
-        ++count;
-      }
-  c /= static_cast<Real>(count);
+  for (Index n : nodes) {
+    lo = lo.cwiseMin(mesh.nodes[n]);
+    hi = hi.cwiseMax(mesh.nodes[n]);
+    c += mesh.nodes[n];
+  }
+  c /= static_cast<Real>(std::max<size_t>(nodes.size(), 1));
   const Real size = std::max((hi - lo).norm(), 1e-300);
   const int nd = dofs.dofs_per_node();
   std::vector<std::string> names;
@@ -74,8 +68,7 @@ std::string free_rigid_motion(const Body& body, const Mesh& mesh, const DofMap& 
   }
   const int m = static_cast<int>(modes.size());
   MatX G = MatX::Zero(m, m);
-  for (Index n = 0; n < mesh.num_nodes(); ++n) {
-    if (!used[n]) continue;
+  for (Index n : nodes) {
     for (int i = 0; i < nd; ++i) {
       const Index d = dofs.dof(n, i);
       if (d < 0 || !constrained[d]) continue;
@@ -123,6 +116,13 @@ bool adaptive_forcing(const Model& model) {
   bool nonlinear = !model.contacts.empty() || model.settings.finite_strain;
   for (const auto& b : model.bodies) nonlinear = nonlinear || (!b->rigid() && b->material().history_size() > 0);
   return nonlinear;
+}
+
+// Whether `loads` has a load on a body's cells (body force, centrifugal).
+bool has_body_loads(const std::vector<Load>& loads) {
+  for (const Load& l : loads)
+    if (l.kind == LoadKind::body_force || l.kind == LoadKind::centrifugal) return true;
+  return false;
 }
 
 }  // namespace
@@ -351,6 +351,54 @@ void Analysis::detect_contact(Real max_step) {
   for (auto& c : contacts_) c->detect(x, max_step);
 }
 
+// Partitioned assembly, after the first pattern: each rank keeps its own cells (and the cells
+// whose stress Nitsche's boundary traction reads at the slave facets, which every rank
+// evaluates alike) and drops the others, with what the analysis still needs of the whole
+// mesh's cells taken first: each body's nodes (the rigid-body check) and the nodes in no cell
+// (rank 0's piece of the output). The rows keep the owners the whole mesh gave them.
+void Analysis::share_out_cells() {
+  Index mine = 0, all = 0, kept = 0;
+  std::vector<char> in_cells(static_cast<size_t>(model_.mesh.num_nodes()), 0);
+  for (auto& b : model_.bodies) {
+    std::vector<Index> nodes;
+    for (const ElementBlock& blk : b->blocks()) nodes.insert(nodes.end(), blk.conn.begin(), blk.conn.end());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    for (Index n : nodes) in_cells[static_cast<size_t>(n)] = 1;
+    body_nodes_.push_back(std::move(nodes));
+  }
+  for (Index n = 0; n < model_.mesh.num_nodes(); ++n)
+    if (!in_cells[static_cast<size_t>(n)]) cellless_nodes_.push_back(n);
+  for (auto& b : model_.bodies) {
+    std::vector<std::vector<char>> keep;
+    for (const ElementBlock& blk : b->blocks()) {
+      keep.emplace_back(static_cast<size_t>(blk.size()), 0);
+      for (Index e = 0; e < blk.size(); ++e) {
+        keep.back()[e] = backend_->cell_owner(&blk, e) == backend_->rank();
+        mine += keep.back()[e];
+      }
+      if (boundary_traction_) boundary_traction_->mark_needed(&blk, keep.back());
+      all += blk.size();
+      std::vector<Index> index(static_cast<size_t>(blk.size()), -1);
+      Index next = 0;
+      for (Index e = 0; e < blk.size(); ++e)
+        if (keep.back()[e]) index[e] = next++;
+      kept += next;
+      backend_->keep_cells(&blk, keep.back());
+      if (boundary_traction_) boundary_traction_->renumber(&blk, index);
+    }
+    b->keep_cells(keep);
+    owned_cells_.emplace_back();
+    for (const ElementBlock& blk : b->blocks()) {
+      owned_cells_.back().emplace_back(static_cast<size_t>(blk.size()));
+      for (Index e = 0; e < blk.size(); ++e)
+        owned_cells_.back().back()[e] = backend_->cell_owner(&blk, e) == backend_->rank();
+    }
+  }
+  log::debug("rank {} assembles {} of the {} cells and holds {} (the others dropped), rows {} to {}", backend_->rank(),
+             mine, all, kept, backend_->owned_begin(), backend_->owned_end());
+}
+
 void Analysis::rebuild_pattern() {
   std::vector<std::vector<Index>> couplings;
   for (auto& c : contacts_) c->couplings(dofs_, couplings);
@@ -367,22 +415,7 @@ void Analysis::rebuild_pattern() {
   if (!couplings_.empty() && couplings == couplings_ && backend_->rows() == num_unknowns()) return;
   couplings_ = std::move(couplings);
   backend_->build_pattern(dofs_, cells_, couplings_, num_unknowns());
-  if (backend_->ranks() > 1 && owned_cells_.empty()) {  // the partition is made once
-    Index mine = 0, all = 0;
-    for (auto& b : model_.bodies) {
-      owned_cells_.emplace_back();
-      for (const ElementBlock& blk : b->blocks()) {
-        owned_cells_.back().emplace_back(static_cast<size_t>(blk.size()));
-        for (Index e = 0; e < blk.size(); ++e) {
-          owned_cells_.back().back()[e] = backend_->cell_owner(&blk, e) == backend_->rank();
-          mine += owned_cells_.back().back()[e];
-        }
-        all += blk.size();
-      }
-    }
-    log::debug("rank {} assembles {} of the {} cells, rows {} to {}", backend_->rank(), mine, all,
-               backend_->owned_begin(), backend_->owned_end());
-  }
+  if (backend_->ranks() > 1 && owned_cells_.empty()) share_out_cells();  // the partition is made once
   if (!factor_assessed_) {  // once, on the first pattern
     factor_assessed_ = true;
     if (symmetric_solves()) backend_->assess_factor();
@@ -406,7 +439,7 @@ void Analysis::rebuild_pattern() {
   log::debug("sparse pattern rebuilt: {} unknowns, {} nonzeros", num_unknowns(), backend_->nonzeros());
 }
 
-void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent) {
+void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent, VecX* cell_loads) {
   if (scale == 0) return;
   const auto& X = model_.mesh.nodes;
   const int dim = dofs_.dofs_per_node();
@@ -433,8 +466,9 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
         break;
       }
       case LoadKind::body_force:
-        for (auto& b : model_.bodies)
-          if (b->name() == l.set) b->add_body_force(X, dofs_, l.vector, scale, fext);
+        for (size_t i = 0; i < model_.bodies.size(); ++i)
+          if (model_.bodies[i]->name() == l.set)
+            model_.bodies[i]->add_body_force(X, dofs_, l.vector, scale, cell_loads ? *cell_loads : fext, owned_cells(i));
         break;
       case LoadKind::centrifugal: {
         const Centrifugal& cf = l.centrifugal;
@@ -443,8 +477,9 @@ void Analysis::add_loads(const std::vector<Load>& loads, Real scale, VecX& fext,
           const Vec3 d = x - cf.origin;
           return Vec3(k * (d - d.dot(cf.axis) * cf.axis));
         };
-        for (auto& body : model_.bodies)
-          if (body->name() == l.set) body->add_body_force(X, dofs_, b, scale, fext);
+        for (size_t i = 0; i < model_.bodies.size(); ++i)
+          if (model_.bodies[i]->name() == l.set)
+            model_.bodies[i]->add_body_force(X, dofs_, b, scale, cell_loads ? *cell_loads : fext, owned_cells(i));
         break;
       }
       case LoadKind::body_moment:
@@ -544,8 +579,16 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       log::debug("internal forces summed over {} ranks in {:.4f} s", backend_->ranks(), ts.seconds());
     }
     if (reused) fint += f_linear;
-    add_loads(previous_loads_, 1 - lambda, fext, tangent);
-    add_loads(*current_loads_, lambda, fext, tangent);
+    // Partitioned, the body forces come from each rank's own cells and are summed by the
+    // owners of their rows, as the internal forces are.
+    const bool cell_sum = !owned_cells_.empty() && (has_body_loads(previous_loads_) || has_body_loads(*current_loads_));
+    VecX cell_loads = cell_sum ? VecX::Zero(n) : VecX();
+    add_loads(previous_loads_, 1 - lambda, fext, tangent, cell_sum ? &cell_loads : nullptr);
+    add_loads(*current_loads_, lambda, fext, tangent, cell_sum ? &cell_loads : nullptr);
+    if (cell_sum) {
+      backend_->sum_cell_forces(cell_loads);
+      fext += cell_loads;
+    }
     if (!contacts_.empty()) {
       log::Timer tc;
       const std::vector<Vec3> x = positions(u_);
@@ -709,13 +752,22 @@ void Analysis::begin_step(int s) {
     for (const auto* set : {&cs.master, &cs.slave})
       if (!set->empty())
         for (Index nd : model_.mesh.node_sets.at(*set)) in_contact[nd] = 1;
-  for (auto& b : model_.bodies) {
+  for (size_t bi = 0; bi < model_.bodies.size(); ++bi) {
+    const Body* b = model_.bodies[bi].get();
+    // The body's nodes: its cells' (partitioned, each rank holds its own cells only: the
+    // nodes of all of them, kept when the others were dropped).
+    std::vector<Index> own;
+    if (body_nodes_.empty()) {
+      for (auto& blk : b->blocks()) own.insert(own.end(), blk.conn.begin(), blk.conn.end());
+      std::sort(own.begin(), own.end());
+      own.erase(std::unique(own.begin(), own.end()), own.end());
+    }
+    const std::vector<Index>& nodes = body_nodes_.empty() ? own : body_nodes_[bi];
     // A body in contact may be held by its contact: the check does not apply (yet).
     bool touches = false;
-    for (auto& blk : b->blocks())
-      for (Index nd : blk.conn) touches = touches || in_contact[nd];
+    for (Index nd : nodes) touches = touches || in_contact[nd];
     if (touches) continue;
-    const std::string motion = free_rigid_motion(*b, model_.mesh, dofs_, constrained_, model_.settings.dimension);
+    const std::string motion = free_rigid_motion(nodes, model_.mesh, dofs_, constrained_, model_.settings.dimension);
     if (!motion.empty())
       throw FatalModelError("step '" + step.name + "': body '" + b->name() + "' is free to " + motion +
                             ": no Dirichlet condition stops this rigid-body motion, so the solution is not unique "

@@ -114,6 +114,9 @@ class Analysis {
   const std::vector<std::vector<char>>* owned_cells(size_t b) const {
     return owned_cells_.empty() ? nullptr : &owned_cells_[b];
   }
+  // Partitioned: the nodes that no cell of the whole mesh uses (each rank holds its own cells
+  // only; a rigid body's reference node, say), ascending; null when the cells are not shared out.
+  const std::vector<Index>* cellless_nodes() const { return owned_cells_.empty() ? nullptr : &cellless_nodes_; }
   // Collective under mpirun (every rank calls it at the same point): whether any rank reports
   // a failure (its `message` not empty); the lowest such rank's message is then in `message`
   // on every rank. One rank: whether `message` is not empty.
@@ -150,6 +153,8 @@ class Analysis {
   Vec3 body_moment(const std::string& body) const;
   // The turning rigid bodies (model order indices) and their angles' unknowns.
   const std::vector<size_t>& turning_bodies() const { return turning_bodies_; }
+  // Whether mesh node n follows a turning rigid body (its cells' nodes and reference nodes).
+  bool node_turns(Index n) const { return !turning_bodies_.empty() && rotations_.body_of_node[static_cast<size_t>(n)] >= 0; }
   // The node sets that carry a Dirichlet condition in the current step, in deck order.
   std::vector<std::string> reaction_sets() const;
   // An unknown in the user's words, for the messages that point at one (the largest residual
@@ -175,7 +180,10 @@ class Analysis {
   // Adds c to the diagonal of every free displacement row of the global matrix.
   void add_free_diagonal(Real c);
   Real add_stabilization(VecX& fint, bool tangent);
-  void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent);
+  // `cell_loads` (partitioned assembly): where the body forces go, from this rank's own cells
+  // (summed over the ranks by the caller); null: into fext.
+  void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent, VecX* cell_loads = nullptr);
+  void share_out_cells();
   // A moment M on the n angles from unknown `first`: its generalized force T^T M and, in 3D
   // with `tangent`, minus its derivative in the angles into the matrix.
   void add_moment(Index first, int n, const Vec3& M, Real scale, VecX& fext, bool tangent);
@@ -253,6 +261,10 @@ class Analysis {
   std::string algebra_ = "serial";
   // Per body and block, whether this rank assembles each cell (partitioned assembly only).
   std::vector<std::vector<std::vector<char>>> owned_cells_;
+  // Partitioned assembly: the whole mesh's facts kept when each rank dropped the other
+  // ranks' cells (share_out_cells): each body's nodes, sorted, and the nodes in no cell.
+  std::vector<std::vector<Index>> body_nodes_;
+  std::vector<Index> cellless_nodes_;
   std::vector<char> is_multiplier_;  // per unknown
   bool has_multipliers_ = false;
   bool symmetric_ = true;

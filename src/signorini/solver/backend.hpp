@@ -82,6 +82,10 @@ class AlgebraBackend {
   virtual void set_coordinates(const std::vector<Vec3>* X) {}
   // The rank that assembles cell e of `block` (one of build_pattern's cells).
   virtual int cell_owner(const ElementBlock* block, Index e) const { return 0; }
+  // After the first build_pattern: `block` keeps only the cells marked (Body::keep_cells, in
+  // their order), which the next patterns pass; the cells' owners and the rows' owners stay
+  // those of the whole mesh.
+  virtual void keep_cells(const ElementBlock* block, const std::vector<char>& keep) {}
   virtual void begin_cells() {}
   virtual void end_cells() {}
   // v[0..n) summed over the ranks, the same bits on every rank.

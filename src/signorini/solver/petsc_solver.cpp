@@ -548,6 +548,15 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     const auto it = part_.find(block);
     return it == part_.end() ? 0 : it->second[static_cast<size_t>(e)];
   }
+  void keep_cells(const ElementBlock* block, const std::vector<char>& keep) override {
+    const auto it = part_.find(block);
+    if (it == part_.end() || it->second.size() != keep.size())
+      throw Error("keep_cells: a block the partition has not seen, or a mask of the wrong size");
+    std::vector<int> kept;
+    for (size_t e = 0; e < keep.size(); ++e)
+      if (keep[e]) kept.push_back(it->second[e]);
+    it->second = std::move(kept);
+  }
 
   // The pattern from this rank's cells, its own rows of the coupling groups and every owned
   // diagonal, gathered by a MATPREALLOCATOR (the cells' off-rank rows sent to their owners), then an AIJ matrix
@@ -1421,22 +1430,28 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
     const int ndpn = bs_;
     const Index slots = dofs.num_dofs() / ndpn;
-    std::vector<int> owner(static_cast<size_t>(slots), size_ - 1), last(static_cast<size_t>(slots), -1);
-    for (const ElementBlock* b : cells)
-      for (Index e = 0; e < b->size(); ++e) {
-        const int r = cell_owner(b, e);
-        const Index* c = b->element(e);
-        for (int a = 0; a < b->nodes_per_element(); ++a)
-          if (dofs.has_dofs(c[a])) {
-            const Index k = dofs.dof(c[a], 0) / ndpn;
-            owner[k] = std::min(owner[k], r);
-            last[k] = std::max(last[k], r);
-          }
-      }
-    // The nodes on a cut (in the cells of two ranks or more): the rows whose entries travel.
-    Index cut = 0;
-    for (Index k = 0; k < slots; ++k) cut += last[k] > owner[k];
-    log::debug("cells shared out by {}: {} of {} nodes on a cut", s_.partition, cut, slots);
+    // The owners come from the whole mesh's cells, at the first pattern: later patterns may
+    // see a rank's own cells only (keep_cells), and the rows keep their owners.
+    if (static_cast<Index>(slot_owner_.size()) != slots) {
+      std::vector<int> owner(static_cast<size_t>(slots), size_ - 1), last(static_cast<size_t>(slots), -1);
+      for (const ElementBlock* b : cells)
+        for (Index e = 0; e < b->size(); ++e) {
+          const int r = cell_owner(b, e);
+          const Index* c = b->element(e);
+          for (int a = 0; a < b->nodes_per_element(); ++a)
+            if (dofs.has_dofs(c[a])) {
+              const Index k = dofs.dof(c[a], 0) / ndpn;
+              owner[k] = std::min(owner[k], r);
+              last[k] = std::max(last[k], r);
+            }
+        }
+      // The nodes on a cut (in the cells of two ranks or more): the rows whose entries travel.
+      Index cut = 0;
+      for (Index k = 0; k < slots; ++k) cut += last[k] > owner[k];
+      log::debug("cells shared out by {}: {} of {} nodes on a cut", s_.partition, cut, slots);
+      slot_owner_ = std::move(owner);
+    }
+    const std::vector<int>& owner = slot_owner_;
     std::vector<Index> slot(static_cast<size_t>(slots), -1);
     Index next = 0;
     starts_.assign(static_cast<size_t>(size_) + 1, 0);
@@ -1510,6 +1525,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   Index nodal_ = 0;                          // the nodes' DOFs (the unknowns before the extras)
   std::map<std::pair<Index, Index>, Real> extra_;  // entries in an extra unknown's row or column
   std::vector<std::vector<PetscScalar>> saved_;  // save_values(): local_blocks()' values
+  std::vector<int> slot_owner_;                  // number(): each node block's rank
   bool has_saved_ = false;
   std::map<Index, Index> last_pivot_;               // closed multiplier row -> its pivot at the last solve
   std::map<Index, std::set<Index>> pivot_columns_;  // pivot DOF -> the other DOFs of its T row, so far
