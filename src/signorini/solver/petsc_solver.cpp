@@ -36,6 +36,15 @@ void ensure_petsc() {
   // own signal handlers would abort instead. Unused options are the user's business.
   PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
   PetscOptionsSetValue(nullptr, "-options_left", "0");
+  // MUMPS detects null pivots (ICNTL(24) = 1; MUMPS 5.5 users' guide, sec. 5.3) instead of
+  // stopping at them (INFOG(1) = -10, and PETSc then reports an error at the solve): a Newton
+  // tangent can be singular for one iteration, as when every node of a frictional contact
+  // slips and nothing else holds a free rigid body's rolling (examples/rolling_rigid_mesh's
+  // hold_back step, one process, linear: mumps: every cutback failed, and the run gave up).
+  // The step then leaves the null direction alone and the next iteration's statuses decide;
+  // the residual still judges convergence. A raw -mat_mumps_icntl_24 in the deck wins (it is
+  // read after this).
+  PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_24", "1");
   if (PetscInitializeNoArguments() != 0) throw Error("PETSc could not be initialized");
   // Errors come back as codes (reported by us), without PETSc's traceback on stderr.
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
