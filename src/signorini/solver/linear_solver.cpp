@@ -298,7 +298,9 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   }
   if (is_petsc_solver(solver_->name()))
     throw SolverError("linear solver " + solver_->name() + " failed: " + solver_->failure() +
-                      " (a singular or indefinite system, or a preconditioner unfit for it: try mumps or umfpack)");
+                      (solver_->name() == "mumps" ? std::string(" (a singular system, or MUMPS out of its workspace: try umfpack)")
+                                                  : std::string(" (a singular or indefinite system, or a preconditioner unfit "
+                                                                "for it: try mumps or umfpack)")));
   const std::string why = solver_->failure();
   if (solver_->ran_out_of_resources())
     throw SolverResourceError("linear solver " + solver_->name() + " failed: " + why + " (" +
