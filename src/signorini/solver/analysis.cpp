@@ -118,6 +118,15 @@ bool adaptive_forcing(const Model& model) {
   return nonlinear;
 }
 
+// The nodes of the body's cells (those it holds), ascending.
+std::vector<Index> nodes_of_cells(const Body& body) {
+  std::vector<Index> nodes;
+  for (const ElementBlock& blk : body.blocks()) nodes.insert(nodes.end(), blk.conn.begin(), blk.conn.end());
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
 // Whether `loads` has a load on a body's cells (body force, centrifugal).
 bool has_body_loads(const std::vector<Load>& loads) {
   for (const Load& l : loads)
@@ -360,12 +369,8 @@ void Analysis::share_out_cells() {
   Index mine = 0, all = 0, kept = 0;
   std::vector<char> in_cells(static_cast<size_t>(model_.mesh.num_nodes()), 0);
   for (auto& b : model_.bodies) {
-    std::vector<Index> nodes;
-    for (const ElementBlock& blk : b->blocks()) nodes.insert(nodes.end(), blk.conn.begin(), blk.conn.end());
-    std::sort(nodes.begin(), nodes.end());
-    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-    for (Index n : nodes) in_cells[static_cast<size_t>(n)] = 1;
-    body_nodes_.push_back(std::move(nodes));
+    body_nodes_.push_back(nodes_of_cells(*b));
+    for (Index n : body_nodes_.back()) in_cells[static_cast<size_t>(n)] = 1;
   }
   for (Index n = 0; n < model_.mesh.num_nodes(); ++n)
     if (!in_cells[static_cast<size_t>(n)]) cellless_nodes_.push_back(n);
@@ -756,12 +761,7 @@ void Analysis::begin_step(int s) {
     const Body* b = model_.bodies[bi].get();
     // The body's nodes: its cells' (partitioned, each rank holds its own cells only: the
     // nodes of all of them, kept when the others were dropped).
-    std::vector<Index> own;
-    if (body_nodes_.empty()) {
-      for (auto& blk : b->blocks()) own.insert(own.end(), blk.conn.begin(), blk.conn.end());
-      std::sort(own.begin(), own.end());
-      own.erase(std::unique(own.begin(), own.end()), own.end());
-    }
+    const std::vector<Index> own = body_nodes_.empty() ? nodes_of_cells(*b) : std::vector<Index>();
     const std::vector<Index>& nodes = body_nodes_.empty() ? own : body_nodes_[bi];
     // A body in contact may be held by its contact: the check does not apply (yet).
     bool touches = false;
