@@ -573,3 +573,75 @@ TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
   EXPECT_EQ(ci.frozen_in_tension(), flipping) << "held in stick now, a large slip is a violation";
   EXPECT_EQ(ci.fix_held_nodes(), 0) << "a hold is swapped only once";
 }
+
+// The first Newton matrix of an increment that starts where the last one converged (no
+// predictor moved the bodies): a closed node has not slipped, its trial is its committed
+// traction, on the rim of its disc if it slipped, the return map's kink; it takes the stick
+// branch there (ContactInterface::begin_increment's `unmoved`), in that matrix only. The
+// tangential multipliers are set outside the disc here, so that the return map's own choice is
+// slip and the test sees which branch was taken: stick in the first assembly with a matrix of
+// an unmoved increment, slip in residual-only assemblies, in the next assembly, and in a moved
+// increment. Lagrange multipliers; and penalty with its nodes slipped, so not at the kink.
+TEST(Friction, UnmovedIncrementStartsInStick) {
+  for (const std::string method : {"lagrange", "penalty"}) {
+    SCOPED_TRACE(method);
+    Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
+    orient_facets(mesh);
+    AnalysisSettings as;
+    as.dimension = Dimension::plane_strain;
+    std::vector<const ElementBlock*> cells;
+    for (auto& [n, blocks] : mesh.regions)
+      for (auto& b : blocks) cells.push_back(&b);
+    DofMap dofs(mesh.num_nodes(), 2, cells);
+    ContactPairSettings cs;
+    cs.name = "c";
+    cs.method = method;
+    cs.master = "lower_ymax";
+    cs.slave = "upper_ymin";
+    cs.friction = "coulomb";
+    cs.friction_parameter = 0.3;
+    cs.stick_predictor = false;  // the return map's own statuses
+    ContactInterface ci(cs, mesh, as, 100.0, false);
+    const Index nd = dofs.num_dofs(), nm = ci.num_multipliers(), nz = nd + nm;
+    ci.set_multiplier_offset(nd);
+    VecX z = VecX::Zero(nz);
+    for (Index n : mesh.node_sets["upper_domain"]) z(dofs.dof(n, 1)) = -0.005;  // pressed in uniformly
+    const Index ns = nm / 3;
+    for (Index j = 0; j < ns; ++j) {
+      z(nd + j) = 1.0;                        // Lagrange: closed
+      z(nd + ns + 2 * j) = -1e8;              // Lagrange: far outside the disc
+    }
+    const std::vector<Vec3> x = test::cells_of_positions(mesh, dofs, z);
+    ci.detect(x, 0.05);
+    // Penalty: the committed traction is the last increment's (end_increment), zero in a first
+    // increment, so its slip is made by a tangential shift of the assemblies' state (which is
+    // then not the unmoved state: such a node is not at the kink and keeps the return map's choice).
+    VecX zs = z;
+    if (method == "penalty")
+      for (Index n : mesh.node_sets["upper_domain"]) zs(dofs.dof(n, 0)) += 0.02;
+    auto statuses = [&](bool matrix) {
+      VecX r = VecX::Zero(nz);
+      DenseMatrix K(nz);
+      ci.assemble(test::cells_of_positions(mesh, dofs, zs), zs, dofs, r, matrix ? &K : nullptr);
+      std::pair<Index, Index> stick_slip{0, 0};
+      for (size_t j = 0; j < ci.state().active.size(); ++j) {
+        if (ci.state().active[j] && ci.constraints()[j].has_slip) ++(ci.state().slip[j] ? stick_slip.second : stick_slip.first);
+      }
+      return stick_slip;
+    };
+    ci.begin_increment(x, z, true);
+    const auto own = statuses(false);
+    ASSERT_GT(own.second, 0) << "the return map's own choice should be slip";
+    const auto first = statuses(true);
+    if (method == "penalty") {
+      // A node that has slipped (the shift) is not at the kink: the return map decides.
+      EXPECT_EQ(first, own) << "a slipped node keeps the return map's choice";
+      continue;
+    }
+    EXPECT_EQ(first.second, 0) << "the first Newton matrix of an unmoved increment takes the stick branch";
+    EXPECT_EQ(first.first, own.first + own.second);
+    EXPECT_EQ(statuses(true), own) << "in that matrix only";
+    ci.begin_increment(x, z, false);
+    EXPECT_EQ(statuses(true), own) << "a moved increment keeps the return map's choice";
+  }
+}

@@ -69,7 +69,10 @@ TEST_P(SlidingFriction3D, DraggedSphereSlipsAtMuWithFewNewtonIterations) {
     std::printf("%s, drag %.3f: %d Newton iterations, %ld closed, %ld sticking, F_x / F_z %.4f (%+.2f %% of mu)\n",
                 disc.c_str(), 0.04 * inc.fraction, inc.iterations, static_cast<long>(c.active),
                 static_cast<long>(c.sticking), ratio, 100 * (ratio / mu - 1));
-    EXPECT_LE(inc.iterations, 8) << disc << ": drag increment " << inc.increment;
+    // 10: the drag's first increment starts unmoved, its first Newton matrix in stick at the
+    // kink (docs/contact.md, "The stick branch at the kink"): node-to-segment at mu 0.8 takes
+    // 10 there (8 before that rule), the others at most 8.
+    EXPECT_LE(inc.iterations, inc.increment == 1 ? 10 : 8) << disc << ": drag increment " << inc.increment;
     // mu 0.8: the sphere's first 0.01 leaves two nodes sticking (measured); then all slip.
     if (inc.increment > 1 || mu < 0.5) EXPECT_EQ(c.sticking, 0) << disc << ": every contact node slips";
     EXPECT_GT(c.active, 40) << disc;

@@ -135,7 +135,7 @@ void ContactInterface::couplings(const DofMap& dofs, std::vector<std::vector<Ind
   }
 }
 
-void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z) {
+void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z, bool unmoved) {
   // The stick predictor (penalty and augmented Lagrangian friction; not Nitsche's, whose
   // statuses are its integration points'): in the increment where the
   // pair's contact zone forms, with every node open at its start (see end_stick_predictor).
@@ -160,6 +160,15 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
     r.last_kind = r.before_kind = -1;
     r.last_facet = r.before_facet = r.held_facet = -1;
   }
+  // The first Newton matrix of an increment that starts where the last one converged: a
+  // closed node has not slipped (d = 0) and its trial is its committed traction, on the rim of
+  // its disc if it slipped. Either branch of the return map is a valid Newton derivative there
+  // and round-off chooses between them; the stick branch is the elastic predictor, and the only
+  // one that gives the bodies a tangential stiffness in the slip's direction: measured on
+  // examples/rolling_rigid_ball, whose 'ease' step lowers the moment that turned the ball at
+  // full slip, the slip branch left the turn about the vertical held by nothing (6.5 rad asked
+  // at the first step, then stick/slip cycling at the rim and the increment cut to its minimum).
+  stick_at_kink_ = frictional() && unmoved && enforcement_->node_statuses();
   discretization_->hold_facets({});
   discretization_->begin_increment(x);
   frozen_reported_ = 0;
@@ -271,8 +280,10 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
     in.friction = friction_.get();
     in.fixed = fixed;
     in.stick_predictor = stick_predictor_;
+    in.stick_at_kink = stick_at_kink_ && K;
   }
   enforcement_->assemble(in, z, residual, K, state_);
+  if (K) stick_at_kink_ = false;
 }
 
 Index ContactInterface::end_stick_predictor(bool converged, Real step, bool first_iteration) {

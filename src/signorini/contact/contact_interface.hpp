@@ -98,8 +98,10 @@ class ContactInterface {
   void couplings(const DofMap& dofs, std::vector<std::vector<Index>>& out) const;
   // At the start of an increment, at the converged state (x, z): resets the chattering guard
   // and, with friction, records each slave node's closest master material point (the origin
-  // of its slip in this increment).
-  void begin_increment(const std::vector<Vec3>& x, const VecX& z);
+  // of its slip in this increment). `unmoved`: the increment's first Newton matrix is
+  // assembled at (x, z) itself (no predictor moved the bodies): its friction takes the stick
+  // branch at the return map's kink (EnforcementInput::stick_at_kink).
+  void begin_increment(const std::vector<Vec3>& x, const VecX& z, bool unmoved = false);
   // Builds the constraints at x and adds the contact forces (and tangent) to the system.
   // fixed: per unknown, 1 if a Dirichlet condition prescribes it (may be null).
   void assemble(const std::vector<Vec3>& x, const VecX& z, const DofMap& dofs, VecX& residual, GlobalMatrix* K,
@@ -223,6 +225,7 @@ class ContactInterface {
   // x_k(theta): dx/dtheta = J R d, d2x/dtheta2 = -R d, d = X_k - X_ref.
   void add_rigid_rotations(Constraint& c, const VecX& z) const;
   bool stick_predictor_ = false;  // friction: the stick predictor is on (end_stick_predictor)
+  bool stick_at_kink_ = false;    // friction: the next Newton matrix is the first of an unmoved increment
 };
 
 }  // namespace signorini

@@ -929,7 +929,9 @@ void Analysis::begin_contact_increment(Real lambda) {
   log::Timer tc;
   detect_contact(step);
   const std::vector<Vec3> x0 = positions(u_converged_);
-  for (auto& c : contacts_) c->begin_increment(x0, u_converged_);
+  // Without an extrapolated predictor the first Newton matrix is assembled at u_converged_.
+  const bool unmoved = !(model_.newton.predictor && last_dl_ > 0);
+  for (auto& c : contacts_) c->begin_increment(x0, u_converged_, unmoved);
   // The first increment from the undeformed state: slave nodes that touch their master to
   // within 1e-6 of their facet size start closed (a body held only by contact then has its
   // support; the hold is released after convergence if it ends in tension).

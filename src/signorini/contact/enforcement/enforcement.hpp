@@ -49,6 +49,11 @@ struct EnforcementInput {
   // only in an increment that starts with every node open): a closed node sticks, whatever its
   // trial.
   bool stick_predictor = false;
+  // Friction, any node-status enforcement: the bodies stand where the last increment
+  // converged (no slip yet, d = 0), so a closed node's trial is its committed traction, inside
+  // its disc or on the rim, the return map's kink, where either branch is a valid Newton
+  // derivative: it takes the stick branch (ContactInterface::begin_increment).
+  bool stick_at_kink = false;
   // Nitsche: the integration points (the discretization's; `constraints` then serve output).
   const std::vector<PointConstraint>* points = nullptr;
 };
