@@ -52,7 +52,8 @@ struct EnforcementInput {
   // Friction, any node-status enforcement: the bodies stand where the last increment
   // converged (no slip yet, d = 0), so a closed node's trial is its committed traction, inside
   // its disc or on the rim, the return map's kink, where either branch is a valid Newton
-  // derivative: it takes the stick branch (ContactInterface::begin_increment).
+  // derivative: it takes the stick branch (ContactInterface::begin_increment). Per node: only
+  // where the constraint's tangential slip is round-off (enforcement.cpp, at_kink).
   bool stick_at_kink = false;
   // Nitsche: the integration points (the discretization's; `constraints` then serve output).
   const std::vector<PointConstraint>* points = nullptr;
