@@ -67,16 +67,22 @@ methods = {inc.get("linear_method", "") for inc in many["increments"] if inc["it
 expected_method = {"gamg": ", gamg (", "hypre": ", hypre (", "mumps": "(mumps)"}.get(many["linear"]["type"], "")
 assert all(m and expected_method in m for m in methods), "linear_method %s for %s" % (methods, many["linear"]["type"])
 # Mortar's slave facets are dealt out to the ranks, each integrating its share (the checks and
-# fields below then show that the exchanged constraints are the one-process ones); other pairs
-# (segment_to_segment, and Nitsche's method on either: the same class) are evaluated whole on
-# every rank.
-mortar = re.search(r"discretization: mortar", text) is not None and "nitsche" not in text
+# fields below then show that the exchanged constraints are the one-process ones). Nitsche's
+# method (segment_to_segment's class, on mortar's segments or its own) deals its points out when
+# the assembly is partitioned, each rank building and assembling its own (the residual and the
+# nodal state summed over the ranks); other pairs are evaluated whole on every rank.
+nitsche = "method: nitsche" in text
+mortar = re.search(r"discretization: mortar", text) is not None and not nitsche
 assert one["contact_evaluation"] in ("one process", "no contact pair"), one["contact_evaluation"]
 if mortar:
     assert many["contact_evaluation"].startswith("mortar's slave facets dealt out to the %d ranks" % ranks), \
         many["contact_evaluation"]
+elif nitsche and many["algebra"].startswith("partitioned"):
+    assert many["contact_evaluation"].startswith("Nitsche's points dealt out to the %d ranks" % ranks), \
+        many["contact_evaluation"]
 else:
-    assert not many["contact_evaluation"].startswith("mortar"), many["contact_evaluation"]
+    assert not many["contact_evaluation"].startswith("mortar") and "Nitsche" not in many["contact_evaluation"], \
+        many["contact_evaluation"]
 if expected_algebra:
     assert many["algebra"].startswith(expected_algebra), many["algebra"]
     if expected_algebra == "partitioned":

@@ -181,8 +181,33 @@ void ContactInterface::begin_increment(const std::vector<Vec3>& x, const VecX& z
   discretization_->set_point_origins();
 }
 
+bool ContactInterface::share_points() {
+  if (!ranks_ || ranks_->size() < 2 || !enforcement_->needs_points()) return false;
+  points_shared_ = discretization_->share_points(ranks_->rank(), ranks_->size());
+  return points_shared_;
+}
+
 void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX& z) {
-  discretization_->build(x, z, dmax_, constraints_);
+  if (points_shared_) {
+    // Each rank builds its own points (the slave body's stress at them may fail on one rank
+    // only: an inverted cell): the ranks agree on the lowest rank's failure, which all of them
+    // throw, a SolverError (Newton shortens its step) or an Error alike.
+    std::string failure;
+    try {
+      discretization_->build(x, z, dmax_, constraints_);
+    } catch (const SolverError& e) {
+      failure = std::string("S") + e.what();
+    } catch (const std::exception& e) {
+      failure = std::string("E") + e.what();
+    }
+    for (const std::string& f : ranks_->allgather(failure)) {
+      if (f.empty()) continue;
+      if (f[0] == 'S') throw SolverError(f.substr(1));
+      throw Error(f.substr(1));
+    }
+  } else {
+    discretization_->build(x, z, dmax_, constraints_);
+  }
   for (size_t j = 0; j < constraints_.size(); ++j) {
     Constraint& c = constraints_[j];
     if (frictional()) {
@@ -276,6 +301,7 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   in.nodes = &nodes_;
   in.multiplier_offset = offset_;
   in.points = discretization_->integration_points();
+  in.share = points_shared_ ? ranks_ : nullptr;
   if (frictional()) {
     in.friction = friction_.get();
     in.fixed = fixed;

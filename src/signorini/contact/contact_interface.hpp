@@ -88,8 +88,20 @@ class ContactInterface {
   void set_boundary_traction(const BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
   // Several MPI ranks (null: one process): the discretization may share its evaluation out
   // (Discretization::set_rank_exchange); the exchange outlives the pair.
-  void set_rank_exchange(const RankExchange* r) { discretization_->set_rank_exchange(r); }
+  void set_rank_exchange(const RankExchange* r) {
+    ranks_ = r;
+    discretization_->set_rank_exchange(r);
+  }
   bool shares_evaluation() const { return discretization_->shares_out(); }
+  // Partitioned assembly over several ranks (the Analysis calls it once, with the distributed
+  // backend): Nitsche's integration points are then built and assembled by one rank each
+  // (Discretization::share_points, EnforcementInput::share), the other work staying whole on
+  // every rank. Returns whether this pair does so (Nitsche's method with a set exchange of two
+  // ranks or more); its assemble() then adds matrix entries into rows other ranks own, which
+  // the caller's backend must carry (AlgebraBackend::begin_cells), and it, build included, is
+  // collective.
+  bool share_points();
+  bool shares_points() const { return points_shared_; }
   // Nitsche: the integration points of the last assembly (null for other methods).
   const std::vector<PointConstraint>* integration_points() const { return discretization_->integration_points(); }
   // Global search at positions x; max_step bounds the motion expected before the next search.
@@ -226,6 +238,8 @@ class ContactInterface {
   void add_rigid_rotations(Constraint& c, const VecX& z) const;
   bool stick_predictor_ = false;  // friction: the stick predictor is on (end_stick_predictor)
   bool stick_at_kink_ = false;    // friction: the next Newton matrix is the first of an unmoved increment
+  const RankExchange* ranks_ = nullptr;  // several MPI ranks (null: one process)
+  bool points_shared_ = false;           // share_points()
 };
 
 }  // namespace signorini

@@ -242,6 +242,9 @@ Analysis::Analysis(Model& model)
     for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
   has_multipliers_ = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
   choose_algebra();
+  // Partitioned assembly: Nitsche's points built and assembled by one rank each.
+  if (backend_->ranks() > 1)
+    for (auto& c : contacts_) c->share_points();
   if (!contacts_.empty()) detect_contact(0);
   rebuild_pattern();
   // The bodies' quadrature-point history, once the cells are shared out: partitioned, each
@@ -305,15 +308,25 @@ void Analysis::choose_algebra() {
 std::string Analysis::contact_evaluation() const {
   if (contacts_.empty()) return "no contact pair";
   if (!rank_exchange_) return "one process";
-  std::vector<std::string> shared;
-  for (const auto& c : contacts_)
+  std::vector<std::string> shared, points;
+  for (const auto& c : contacts_) {
     if (c->shares_evaluation()) shared.push_back(c->label());
+    if (c->shares_points()) points.push_back(c->label());
+  }
   const int ranks = rank_exchange_->size();
-  if (shared.empty()) return fmt::format("every pair evaluated whole on each of the {} ranks", ranks);
-  return fmt::format("mortar's slave facets dealt out to the {} ranks, each integrating its share (pair{} {}); "
-                     "{}the constraints then the same on every rank",
-                     ranks, shared.size() > 1 ? "s" : "", fmt::join(shared, ", "),
-                     shared.size() < contacts_.size() ? "the other pairs evaluated whole on each rank; " : "");
+  const size_t whole = contacts_.size() - shared.size() - points.size();
+  if (shared.empty() && points.empty()) return fmt::format("every pair evaluated whole on each of the {} ranks", ranks);
+  std::string s;
+  if (!shared.empty())
+    s = fmt::format("mortar's slave facets dealt out to the {} ranks, each integrating its share (pair{} {}); "
+                    "the constraints then the same on every rank",
+                    ranks, shared.size() > 1 ? "s" : "", fmt::join(shared, ", "));
+  if (!points.empty())
+    s += fmt::format("{}Nitsche's points dealt out to the {} ranks by slave facet, each building and assembling its "
+                     "share (pair{} {}); the gaps and constraints whole on every rank",
+                     s.empty() ? "" : "; ", ranks, points.size() > 1 ? "s" : "", fmt::join(points, ", "));
+  if (whole > 0) s += "; the other pairs evaluated whole on each rank";
+  return s;
 }
 
 bool Analysis::symmetric_solves() const {
@@ -599,7 +612,12 @@ Real Analysis::evaluate(Real lambda, bool tangent, VecX& residual) {
       const std::vector<Vec3> x = positions(u_);
       for (auto& c : contacts_) {
         if (c->update_each_iteration()) c->detect(x, 0);
+        // A pair whose points are shared out adds its points' entries into any rank's rows,
+        // which the backend carries to their owners as it does the cells'.
+        const bool own_share = tangent && c->shares_points();
+        if (own_share) backend_->begin_cells();
         c->assemble(x, u_, dofs_, fc, tangent ? &backend_->matrix() : nullptr, &constrained_);
+        if (own_share) backend_->end_cells();
       }
       contact_time += tc.seconds();
     }

@@ -915,6 +915,15 @@ class SegmentToSegment final : public DeformableMaster {
     positive_weights();
   }
   const std::vector<PointConstraint>* integration_points() const override { return traction_ ? &points_ : nullptr; }
+  // A facet's points belong to rank e % ranks: a fixed owner, so that the slip origins a rank
+  // records at an increment's start (set_point_origins, from its own points) are those of the
+  // points it builds later, whatever the search finds in between.
+  bool share_points(int rank, int ranks) override {
+    if (!traction_ || ranks < 2) return false;
+    point_rank_ = rank;
+    point_ranks_ = ranks;
+    return true;
+  }
   void set_point_origins() override {
     if (!traction_) return;
     origins_.assign(integration_.size(), {});
@@ -992,7 +1001,7 @@ class SegmentToSegment final : public DeformableMaster {
                                &held_[e]);
         hits_[e] = r.hit;
         if (r.points == 0) continue;
-        if (traction_) nitsche_points(e, r, pg, x, points[e]);
+        if (traction_ && e % point_ranks_ == point_rank_) nitsche_points(e, r, pg, x, points[e]);
         facet[e].push_back(r.first_facet);
         results[e].push_back(std::move(r));
       } catch (...) {
@@ -1228,6 +1237,9 @@ class SegmentToSegment final : public DeformableMaster {
   std::vector<Real> facet_size_;
   mutable std::vector<Real> positive_weight_;  // per slave node: int max(N~_j, 0) dA0 (the reported pressure's average)
   Real gamma0_ = 0;
+  // The points this process builds: slave facet e's when e % point_ranks_ == point_rank_
+  // (share_points; one process: all of them).
+  int point_rank_ = 0, point_ranks_ = 1;
   mutable std::vector<PointConstraint> points_;
   // Friction: per slave facet and integration point, the master point of its slip origin
   // (empty: none; the whole vector empty: no friction).

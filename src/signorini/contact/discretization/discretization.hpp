@@ -95,6 +95,12 @@ class Discretization {
   void set_rank_exchange(const RankExchange* r) { ranks_ = r; }
   // Whether build shares its work out over the ranks of a set exchange.
   virtual bool shares_out() const { return false; }
+  // Nitsche's integration points assembled by one rank each (partitioned assembly, issue 15):
+  // from now on build makes the points of the slave facets e with e % ranks == rank only, the
+  // rest of its work (the gaps of every facet, the constraints, the pattern's couplings) staying
+  // whole on every rank. Returns whether this discretization has such points (segment_to_segment
+  // with Nitsche's method); the others ignore it.
+  virtual bool share_points(int /*rank*/, int /*ranks*/) { return false; }
 
  protected:
   bool second_variation_ = true;

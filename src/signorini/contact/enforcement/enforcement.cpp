@@ -3,7 +3,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 
 #include "signorini/core/error.hpp"
 #include "signorini/fem/coloring.hpp"
@@ -94,6 +96,57 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
   const Index n = std::min(v.size(), static_cast<Index>(dofs.size()));
   for (Index k = 0; k < n; ++k)
     if (dofs[k] >= 0) r(dofs[k]) += scale * v(k);
+}
+
+// Partitioned Nitsche (EnforcementInput::share), collective: `values` (the same length on every
+// rank) summed over the ranks, and each rank's residual entries (`dofs`, read from `part`) added
+// into `residual`, in rank order: the same bits on every rank.
+void sum_shares(const RankExchange& ex, std::vector<Real>& values, const std::vector<Index>& dofs, const VecX& part,
+                VecX& residual) {
+  const size_t nv = values.size();
+  std::string mine(nv * sizeof(Real) + dofs.size() * (sizeof(std::int64_t) + sizeof(Real)), '\0');
+  char* p = mine.data();
+  std::memcpy(p, values.data(), nv * sizeof(Real));
+  p += nv * sizeof(Real);
+  for (Index d : dofs) {
+    const std::int64_t i = d;
+    const Real v = part(d);
+    std::memcpy(p, &i, sizeof i);
+    std::memcpy(p + sizeof i, &v, sizeof v);
+    p += sizeof i + sizeof v;
+  }
+  std::fill(values.begin(), values.end(), 0.0);
+  for (const std::string& s : ex.allgather(mine)) {
+    if (s.size() < nv * sizeof(Real) || (s.size() - nv * sizeof(Real)) % (sizeof(std::int64_t) + sizeof(Real)) != 0)
+      throw Error("nitsche: a rank's share of the contact sums has the wrong size (internal error)");
+    const char* q = s.data();
+    for (size_t k = 0; k < nv; ++k, q += sizeof(Real)) {
+      Real v;
+      std::memcpy(&v, q, sizeof v);
+      values[k] += v;
+    }
+    for (; q < s.data() + s.size(); q += sizeof(std::int64_t) + sizeof(Real)) {
+      std::int64_t i;
+      Real v;
+      std::memcpy(&i, q, sizeof i);
+      std::memcpy(&v, q + sizeof i, sizeof v);
+      if (i < 0 || i >= residual.size()) throw Error("nitsche: a rank's residual entry is out of range (internal error)");
+      residual(i) += v;
+    }
+  }
+}
+
+// The largest of every rank's `v` (collective).
+Real max_over_ranks(const RankExchange& ex, Real v) {
+  std::string mine(sizeof v, '\0');
+  std::memcpy(mine.data(), &v, sizeof v);
+  Real m = v;
+  for (const std::string& s : ex.allgather(mine)) {
+    Real w;
+    std::memcpy(&w, s.data(), sizeof w);
+    m = std::max(m, w);
+  }
+  return m;
 }
 
 // Derivative of a trial traction P(n) v, v = v0 + c_T d (v0 fixed), over the constraint's
@@ -460,6 +513,12 @@ class Nitsche final : public Enforcement {
     // body's stress gives at any point (see above the class).
     Real bound = 0;
     for (const PointConstraint& pc : pts) bound = std::max(bound, 2 * pc.pressure);
+    // Partitioned: this rank's points, whose residual entries go to `part` and are summed over
+    // the ranks at the end (the bound is the largest over every rank's points).
+    if (in.share) bound = max_over_ranks(*in.share, bound);
+    VecX part;
+    if (in.share) part = VecX::Zero(residual.size());
+    VecX& target = in.share ? part : residual;
 #pragma omp parallel
     {
       std::vector<Index> dofs;
@@ -502,7 +561,7 @@ class Nitsche final : public Enforcement {
               if (K) k.noalias() -= ((theta / eps) * w) * pc.pressure_grad * pc.pressure_grad.transpose();
             }
           }
-          add_vector(residual, dofs, r, 1.0);
+          add_vector(target, dofs, r, 1.0);
           if (K) K->add(dofs.data(), static_cast<int>(m), k);
         }
       }
@@ -512,19 +571,21 @@ class Nitsche final : public Enforcement {
     for (size_t q = 0; q < pts.size(); ++q)
       if (positive[q] > 0)
         for (const auto& [j, share] : pts[q].shares) out.pressure[j] += share * positive[q];
-    for (Index j = 0; j < n; ++j) out.active[j] = out.pressure[j] > 0;
-    if (!friction) return;
     // Per node (output, the slip record): the traction on the master (minus the slave's) and
     // |Q| - bound averaged as the pressure is; slip when the shares of its active points that
     // slip outweigh those that stick.
-    std::vector<Real> vote(n, 0.0);
-    for (size_t q = 0; q < pts.size(); ++q)
-      if (positive[q] > 0 && pts[q].has_slip)
-        for (const auto& [j, share] : pts[q].shares) {
-          out.traction[j] -= share * tau[q];
-          out.cone_excess[j] += share * excess[q];
-          vote[j] += slipped[q] ? share : -share;
-        }
+    std::vector<Real> vote(friction ? n : 0, 0.0);
+    if (friction)
+      for (size_t q = 0; q < pts.size(); ++q)
+        if (positive[q] > 0 && pts[q].has_slip)
+          for (const auto& [j, share] : pts[q].shares) {
+            out.traction[j] -= share * tau[q];
+            out.cone_excess[j] += share * excess[q];
+            vote[j] += slipped[q] ? share : -share;
+          }
+    if (in.share) share_sums(*in.share, pts, dim, dm, part, residual, out, vote);
+    for (Index j = 0; j < n; ++j) out.active[j] = out.pressure[j] > 0;
+    if (!friction) return;
     for (Index j = 0; j < n; ++j) out.slip[j] = out.active[j] && vote[j] > 0;
     out.point_slip.assign(pts.size(), -1);
     for (size_t q = 0; q < pts.size(); ++q)
@@ -587,6 +648,37 @@ class Nitsche final : public Enforcement {
       k->noalias() -= (theta * w / eps) * (G.transpose() * (G - dtau));
     }
     force.head(dim) += w * t;
+  }
+
+  // Partitioned (EnforcementInput::share): every rank's per-node sums (pressure; with friction
+  // the traction, |Q| - bound and the slip vote), contact force and residual entries (those of
+  // its points' DOFs, from `part`) summed over the ranks.
+  static void share_sums(const RankExchange& ex, const std::vector<PointConstraint>& pts, int dim, const DofMap& dm,
+                         const VecX& part, VecX& residual, EnforcementOutput& out, std::vector<Real>& vote) {
+    const size_t n = out.pressure.size(), nf = vote.size();
+    std::vector<Real> values;
+    values.reserve(n + nf * 5 + 3);
+    values.insert(values.end(), out.pressure.begin(), out.pressure.end());
+    for (size_t j = 0; j < nf; ++j)
+      for (int d = 0; d < 3; ++d) values.push_back(out.traction[j](d));
+    values.insert(values.end(), out.cone_excess.begin(), out.cone_excess.end());
+    values.insert(values.end(), vote.begin(), vote.end());
+    for (int d = 0; d < 3; ++d) values.push_back(out.slave_force(d));
+    std::vector<Index> dofs;
+    for (const PointConstraint& pc : pts)
+      for (Index nd : pc.nodes)
+        for (int k = 0; k < dim; ++k)
+          if (const Index d = dm.dof(nd, k); d >= 0) dofs.push_back(d);
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+    sum_shares(ex, values, dofs, part, residual);
+    size_t at = 0;
+    for (size_t j = 0; j < n; ++j) out.pressure[j] = values[at++];
+    for (size_t j = 0; j < nf; ++j)
+      for (int d = 0; d < 3; ++d) out.traction[j](d) = values[at++];
+    for (size_t j = 0; j < nf; ++j) out.cone_excess[j] = values[at++];
+    for (size_t j = 0; j < nf; ++j) vote[j] = values[at++];
+    for (int d = 0; d < 3; ++d) out.slave_force(d) = values[at++];
   }
 
   int theta_;

@@ -27,6 +27,7 @@
 #include "signorini/contact/constraint.hpp"
 #include "signorini/contact/friction/friction_law.hpp"
 #include "signorini/contact/pair_state.hpp"
+#include "signorini/core/rank_exchange.hpp"
 #include "signorini/fem/dof_map.hpp"
 #include "signorini/fem/global_system.hpp"
 
@@ -57,6 +58,12 @@ struct EnforcementInput {
   bool stick_at_kink = false;
   // Nitsche: the integration points (the discretization's; `constraints` then serve output).
   const std::vector<PointConstraint>* points = nullptr;
+  // Nitsche, partitioned assembly (issue 15; null: one process, or every rank holding every
+  // point): `points` are this rank's share (Discretization::share_points). It adds its points'
+  // matrix entries, whichever rank owns their rows (the caller has the backend carry them), and
+  // the per-node output, the contact force and the residual's entries are summed over the ranks
+  // through this exchange (collective), in rank order: the same bits on every rank.
+  const RankExchange* share = nullptr;
 };
 
 struct EnforcementOutput {
@@ -67,7 +74,8 @@ struct EnforcementOutput {
   std::vector<Real> cone_excess;  // friction: |t_trial| - bound (> 0: outside the disc)
   // Nitsche: the contact force on the slave side, summed over the points (the nodal pressures
   // are a projection of the points' and do not give it exactly).
-  // Nitsche with friction, per integration point: -1 open or without a slip origin, 0 stick, 1 slip.
+  // Nitsche with friction, per integration point (of this rank's share, EnforcementInput::share):
+  // -1 open or without a slip origin, 0 stick, 1 slip.
   std::vector<signed char> point_slip;
   bool has_slave_force = false;
   Vec3 slave_force = Vec3::Zero();
