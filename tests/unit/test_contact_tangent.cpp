@@ -507,15 +507,39 @@ INSTANTIATE_TEST_SUITE_P(Methods, FrictionTangent,
 // among the accepted iterates of an increment is held in its status; at convergence a hold on
 // the wrong side of the friction disc is swapped once (fix_held_nodes), and one still wrong is
 // reported (frozen_in_tension), so the increment would be cut back.
-TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
-  Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
-  orient_facets(mesh);
+namespace {
+// Two quad4 blocks in plane strain, the upper one's bottom (slave) 0.01 above the lower one's top
+// (master), and a node-to-segment pair between them with Coulomb friction (mu = 0.3) and the
+// return map's own statuses (no stick predictor).
+struct FrictionBlocks {
+  explicit FrictionBlocks(const std::string& method) {
+    mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
+    orient_facets(mesh);
+    as.dimension = Dimension::plane_strain;
+    std::vector<const ElementBlock*> cells;
+    for (auto& [n, blocks] : mesh.regions)
+      for (auto& b : blocks) cells.push_back(&b);
+    dofs = DofMap(mesh.num_nodes(), 2, cells);
+    cs.name = "c";
+    cs.method = method;
+    cs.master = "lower_ymax";
+    cs.slave = "upper_ymin";
+    cs.friction = "coulomb";
+    cs.friction_parameter = 0.3;
+    cs.stick_predictor = false;
+  }
+  Mesh mesh;
   AnalysisSettings as;
-  as.dimension = Dimension::plane_strain;
-  std::vector<const ElementBlock*> cells;
-  for (auto& [n, blocks] : mesh.regions)
-    for (auto& b : blocks) cells.push_back(&b);
-  DofMap dofs(mesh.num_nodes(), 2, cells);
+  DofMap dofs;
+  ContactPairSettings cs;
+};
+}  // namespace
+
+TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
+  FrictionBlocks blocks("penalty");
+  Mesh& mesh = blocks.mesh;
+  const DofMap& dofs = blocks.dofs;
+  ContactPairSettings& cs = blocks.cs;
   const Index nz = dofs.num_dofs();
   VecX z0 = VecX::Zero(nz);
   for (Index n : mesh.node_sets["upper_domain"]) z0(dofs.dof(n, 1)) = -0.005;  // pressed in uniformly
@@ -525,17 +549,9 @@ TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
     for (Index n : mesh.node_sets["upper_domain"]) z(dofs.dof(n, 0)) += s;
     return z;
   };
-  ContactPairSettings cs;
-  cs.name = "c";
-  cs.method = "penalty";
-  cs.master = "lower_ymax";
-  cs.slave = "upper_ymin";
-  cs.friction = "coulomb";
-  cs.friction_parameter = 0.3;
   cs.tangential_penalty = 5000;
-  cs.max_flips = 2;
-  cs.stick_predictor = false;  // the guard on the return map's own stick/slip statuses
-  ContactInterface ci(cs, mesh, as, 100.0, false);
+  cs.max_flips = 2;  // the guard on the return map's own stick/slip statuses
+  ContactInterface ci(cs, mesh, blocks.as, 100.0, false);
   ci.set_multiplier_offset(nz);
   ci.detect(test::cells_of_positions(mesh, dofs, z0), 0.05);
   ci.begin_increment(test::cells_of_positions(mesh, dofs, z0), z0);
@@ -585,23 +601,10 @@ TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
 TEST(Friction, UnmovedIncrementStartsInStick) {
   for (const std::string method : {"lagrange", "penalty"}) {
     SCOPED_TRACE(method);
-    Mesh mesh = test::two_blocks(ElementType::quad4, 3, 4, 1.0, 0.5, Vec3(0, 0.5 - 0.01, 0));
-    orient_facets(mesh);
-    AnalysisSettings as;
-    as.dimension = Dimension::plane_strain;
-    std::vector<const ElementBlock*> cells;
-    for (auto& [n, blocks] : mesh.regions)
-      for (auto& b : blocks) cells.push_back(&b);
-    DofMap dofs(mesh.num_nodes(), 2, cells);
-    ContactPairSettings cs;
-    cs.name = "c";
-    cs.method = method;
-    cs.master = "lower_ymax";
-    cs.slave = "upper_ymin";
-    cs.friction = "coulomb";
-    cs.friction_parameter = 0.3;
-    cs.stick_predictor = false;  // the return map's own statuses
-    ContactInterface ci(cs, mesh, as, 100.0, false);
+    FrictionBlocks blocks(method);
+    Mesh& mesh = blocks.mesh;
+    const DofMap& dofs = blocks.dofs;
+    ContactInterface ci(blocks.cs, mesh, blocks.as, 100.0, false);
     const Index nd = dofs.num_dofs(), nm = ci.num_multipliers(), nz = nd + nm;
     ci.set_multiplier_offset(nd);
     VecX z = VecX::Zero(nz);
