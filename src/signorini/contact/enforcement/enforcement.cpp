@@ -5,8 +5,9 @@
 #include <cassert>
 #include <cstdint>
 #include <cstdlib>
-#include <cstring>
+#include <sstream>
 
+#include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
 #include "signorini/fem/coloring.hpp"
 
@@ -103,48 +104,35 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
 // into `residual`, in rank order: the same bits on every rank.
 void sum_shares(const RankExchange& ex, std::vector<Real>& values, const std::vector<Index>& dofs, const VecX& part,
                 VecX& residual) {
-  const size_t nv = values.size();
-  std::string mine(nv * sizeof(Real) + dofs.size() * (sizeof(std::int64_t) + sizeof(Real)), '\0');
-  char* p = mine.data();
-  std::memcpy(p, values.data(), nv * sizeof(Real));
-  p += nv * sizeof(Real);
-  for (Index d : dofs) {
-    const std::int64_t i = d;
-    const Real v = part(d);
-    std::memcpy(p, &i, sizeof i);
-    std::memcpy(p + sizeof i, &v, sizeof v);
-    p += sizeof i + sizeof v;
-  }
+  std::ostringstream os;
+  binary::put_vector(os, values);
+  binary::put_vector(os, dofs);
+  std::vector<Real> mine(dofs.size());
+  for (size_t k = 0; k < dofs.size(); ++k) mine[k] = part(dofs[k]);
+  binary::put_vector(os, mine);
   std::fill(values.begin(), values.end(), 0.0);
-  for (const std::string& s : ex.allgather(mine)) {
-    if (s.size() < nv * sizeof(Real) || (s.size() - nv * sizeof(Real)) % (sizeof(std::int64_t) + sizeof(Real)) != 0)
-      throw Error("nitsche: a rank's share of the contact sums has the wrong size (internal error)");
-    const char* q = s.data();
-    for (size_t k = 0; k < nv; ++k, q += sizeof(Real)) {
-      Real v;
-      std::memcpy(&v, q, sizeof v);
-      values[k] += v;
-    }
-    for (; q < s.data() + s.size(); q += sizeof(std::int64_t) + sizeof(Real)) {
-      std::int64_t i;
-      Real v;
-      std::memcpy(&i, q, sizeof i);
-      std::memcpy(&v, q + sizeof i, sizeof v);
-      if (i < 0 || i >= residual.size()) throw Error("nitsche: a rank's residual entry is out of range (internal error)");
-      residual(i) += v;
+  for (const std::string& s : ex.allgather(os.str())) {
+    std::istringstream is(s);
+    const std::vector<Real> v = binary::get_vector<Real>(is, static_cast<std::int64_t>(values.size()), "nitsche's sums");
+    const std::vector<Index> d = binary::get_vector<Index>(is, -1, "nitsche's residual rows");
+    const std::vector<Real> r = binary::get_vector<Real>(is, static_cast<std::int64_t>(d.size()), "nitsche's residual");
+    for (size_t k = 0; k < v.size(); ++k) values[k] += v[k];
+    for (size_t k = 0; k < d.size(); ++k) {
+      if (d[k] < 0 || d[k] >= residual.size()) throw Error("nitsche: a rank's residual row is out of range (internal error)");
+      residual(d[k]) += r[k];
     }
   }
 }
 
-// The largest of every rank's `v` (collective).
-Real max_over_ranks(const RankExchange& ex, Real v) {
-  std::string mine(sizeof v, '\0');
-  std::memcpy(mine.data(), &v, sizeof v);
-  Real m = v;
-  for (const std::string& s : ex.allgather(mine)) {
-    Real w;
-    std::memcpy(&w, s.data(), sizeof w);
-    m = std::max(m, w);
+// The largest of every rank's values, entry by entry (collective).
+std::vector<Real> max_over_ranks(const RankExchange& ex, const std::vector<Real>& values) {
+  std::ostringstream os;
+  binary::put_vector(os, values);
+  std::vector<Real> m = values;
+  for (const std::string& s : ex.allgather(os.str())) {
+    std::istringstream is(s);
+    const std::vector<Real> v = binary::get_vector<Real>(is, static_cast<std::int64_t>(values.size()), "nitsche's maxima");
+    for (size_t k = 0; k < v.size(); ++k) m[k] = std::max(m[k], v[k]);
   }
   return m;
 }
@@ -480,9 +468,20 @@ class Nitsche final : public Enforcement {
     out.slave_force.setZero();
     if (!in.points) throw Error("nitsche: the discretization gave no integration points (segment_to_segment needed)");
     const std::vector<PointConstraint>& pts = *in.points;
+    // The bound on P in the gap's second variation: twice the largest pressure the slave
+    // body's stress gives at any point (see above the class). Partitioned, over every rank's
+    // points, and so is whether the points are at finite strain (a rank may have none).
+    Real bound = 0;
+    for (const PointConstraint& pc : pts) bound = std::max(bound, 2 * pc.pressure);
+    bool finite = !pts.empty() && pts.front().normal_jacobian.size() > 0;
+    if (in.share) {
+      const std::vector<Real> m = max_over_ranks(*in.share, {bound, finite ? 1.0 : 0.0});
+      bound = m[0];
+      finite = m[1] > 0;
+    }
     // Finite strain (the points carry their current normal's variation): theta 0 only, whose
     // Newton matrix needs the pressure's first derivative only (docs/contact.md).
-    if (theta_ != 0 && !pts.empty() && pts.front().normal_jacobian.size() > 0)
+    if (theta_ != 0 && finite)
       throw Error("nitsche: at finite strain theta is 0 (the Newton matrix of theta 1 and -1 needs the second "
                   "derivative of the bodies' stress)");
     const DofMap& dm = *in.dofs;
@@ -509,13 +508,8 @@ class Nitsche final : public Enforcement {
     std::vector<Vec3> tau(friction ? pts.size() : 0, Vec3::Zero());
     std::vector<char> slipped(friction ? pts.size() : 0, 0);
     std::vector<Real> excess(friction ? pts.size() : 0, 0.0);
-    // The bound on P in the gap's second variation: twice the largest pressure the slave
-    // body's stress gives at any point (see above the class).
-    Real bound = 0;
-    for (const PointConstraint& pc : pts) bound = std::max(bound, 2 * pc.pressure);
     // Partitioned: this rank's points, whose residual entries go to `part` and are summed over
-    // the ranks at the end (the bound is the largest over every rank's points).
-    if (in.share) bound = max_over_ranks(*in.share, bound);
+    // the ranks at the end.
     VecX part;
     if (in.share) part = VecX::Zero(residual.size());
     VecX& target = in.share ? part : residual;
