@@ -100,15 +100,16 @@ void add_vector(VecX& r, const std::vector<Index>& dofs, const VecX& v, Real sca
 }
 
 // Partitioned Nitsche (EnforcementInput::share), collective: `values` (the same length on every
-// rank) summed over the ranks, and each rank's residual entries (`dofs`, read from `part`) added
-// into `residual`, in rank order: the same bits on every rank.
-void sum_shares(const RankExchange& ex, std::vector<Real>& values, const std::vector<Index>& dofs, const VecX& part,
-                VecX& residual) {
+// rank) summed over the ranks, and each rank's residual entries (the non-zero rows of `part`, its
+// points' terms) added into `residual`, in rank order: the same bits on every rank.
+void sum_shares(const RankExchange& ex, std::vector<Real>& values, const VecX& part, VecX& residual) {
+  std::vector<Index> dofs;
+  std::vector<Real> mine;
+  for (Index i = 0; i < part.size(); ++i)
+    if (part(i) != 0) dofs.push_back(i), mine.push_back(part(i));
   std::ostringstream os;
   binary::put_vector(os, values);
   binary::put_vector(os, dofs);
-  std::vector<Real> mine(dofs.size());
-  for (size_t k = 0; k < dofs.size(); ++k) mine[k] = part(dofs[k]);
   binary::put_vector(os, mine);
   std::fill(values.begin(), values.end(), 0.0);
   for (const std::string& s : ex.allgather(os.str())) {
@@ -577,7 +578,7 @@ class Nitsche final : public Enforcement {
             out.cone_excess[j] += share * excess[q];
             vote[j] += slipped[q] ? share : -share;
           }
-    if (in.share) share_sums(*in.share, pts, dim, dm, part, residual, out, vote);
+    if (in.share) share_sums(*in.share, part, residual, out, vote);
     for (Index j = 0; j < n; ++j) out.active[j] = out.pressure[j] > 0;
     if (!friction) return;
     for (Index j = 0; j < n; ++j) out.slip[j] = out.active[j] && vote[j] > 0;
@@ -645,10 +646,10 @@ class Nitsche final : public Enforcement {
   }
 
   // Partitioned (EnforcementInput::share): every rank's per-node sums (pressure; with friction
-  // the traction, |Q| - bound and the slip vote), contact force and residual entries (those of
-  // its points' DOFs, from `part`) summed over the ranks.
-  static void share_sums(const RankExchange& ex, const std::vector<PointConstraint>& pts, int dim, const DofMap& dm,
-                         const VecX& part, VecX& residual, EnforcementOutput& out, std::vector<Real>& vote) {
+  // the traction, |Q| - bound and the slip vote), contact force and residual entries (its
+  // points' terms, `part`) summed over the ranks.
+  static void share_sums(const RankExchange& ex, const VecX& part, VecX& residual, EnforcementOutput& out,
+                         std::vector<Real>& vote) {
     const size_t n = out.pressure.size(), nf = vote.size();
     std::vector<Real> values;
     values.reserve(n + nf * 5 + 3);
@@ -658,14 +659,7 @@ class Nitsche final : public Enforcement {
     values.insert(values.end(), out.cone_excess.begin(), out.cone_excess.end());
     values.insert(values.end(), vote.begin(), vote.end());
     for (int d = 0; d < 3; ++d) values.push_back(out.slave_force(d));
-    std::vector<Index> dofs;
-    for (const PointConstraint& pc : pts)
-      for (Index nd : pc.nodes)
-        for (int k = 0; k < dim; ++k)
-          if (const Index d = dm.dof(nd, k); d >= 0) dofs.push_back(d);
-    std::sort(dofs.begin(), dofs.end());
-    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
-    sum_shares(ex, values, dofs, part, residual);
+    sum_shares(ex, values, part, residual);
     size_t at = 0;
     for (size_t j = 0; j < n; ++j) out.pressure[j] = values[at++];
     for (size_t j = 0; j < nf; ++j)
