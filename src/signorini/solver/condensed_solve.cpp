@@ -320,37 +320,51 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   log::debug("    condensed solve: {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB", Kr.rows(), Kr.nonZeros(),
              solver_.last_used(), log::memory_mib());
   if (!coupled) return true;
-  // GMRES on J x = r, right-preconditioned by P^-1, from x0 = P^-1 r. The preconditioned
-  // vectors Z are kept, so P^-1 may change from step to step (flexible GMRES, Saad 2003,
-  // alg. 9.6): an inner Krylov solve to kInnerTolerance.
+  // GMRES on J x = r, right-preconditioned by P^-1, from x0 = P^-1 r.
   const Real rnorm = r.norm();
-  VecX res = r - J * dz;
-  Real beta = res.norm();
-  if (!(beta > outer * rnorm)) {
+  const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX { return J * v; }, apply, r, dz,
+                                               outer * rnorm, kMaxRefinements);
+  refinements_ = g.steps;
+  const Real final_norm = g.residual;
+  if (final_norm <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
     coupled_backoff_ = 1;
     return true;
   }
-  const int m = kMaxRefinements;
+  // The whole system for the next 1, 2, 4, ... solves after each failure in a row.
+  coupled_skip_ = coupled_backoff_;
+  coupled_backoff_ = std::min(2 * coupled_backoff_, 64);
+  why_not_ = fmt::format(
+      "coupled contact rows (segment_to_segment, mortar): GMRES on the condensed preconditioner stalls at {:.1e} of "
+      "the right-hand side after {} steps",
+      final_norm / rnorm, g.steps);
+  return false;
+}
+
+FlexibleGmresResult flexible_gmres(const std::function<VecX(const VecX&)>& times_A,
+                                   const std::function<void(const VecX&, VecX&)>& precondition, const VecX& r, VecX& x,
+                                   Real tolerance, int max_steps) {
+  VecX res = r - times_A(x);
+  const Real beta = res.norm();
+  if (!(beta > tolerance)) return {0, beta};
   std::vector<VecX> V, Z;
-  MatX H = MatX::Zero(m + 1, m);
-  VecX cs = VecX::Zero(m), sn = VecX::Zero(m), g = VecX::Zero(m + 1);
+  MatX H = MatX::Zero(max_steps + 1, max_steps);
+  VecX cs = VecX::Zero(max_steps), sn = VecX::Zero(max_steps), g = VecX::Zero(max_steps + 1);
   g(0) = beta;
   V.push_back(res / beta);
   int k = 0;
   Real err = beta;
-  for (; k < m && err > outer * rnorm; ++k) {
+  for (; k < max_steps && err > tolerance; ++k) {
     VecX z;
-    apply(V[k], z);
-    ++refinements_;
-    VecX w = J * z;
-    for (int i = 0; i <= k; ++i) {
+    precondition(V[k], z);
+    VecX w = times_A(z);
+    for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
       H(i, k) = w.dot(V[i]);
       w -= H(i, k) * V[i];
     }
     H(k + 1, k) = w.norm();
     Z.push_back(std::move(z));
     V.push_back(H(k + 1, k) > 0 ? VecX(w / H(k + 1, k)) : VecX(w));
-    for (int i = 0; i < k; ++i) {
+    for (int i = 0; i < k; ++i) {  // the earlier Givens rotations, then this column's
       const Real t = cs(i) * H(i, k) + sn(i) * H(i + 1, k);
       H(i + 1, k) = -sn(i) * H(i, k) + cs(i) * H(i + 1, k);
       H(i, k) = t;
@@ -364,21 +378,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     g(k) = cs(k) * g(k);
     err = std::abs(g(k + 1));
   }
-  VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-  for (int i = 0; i < k; ++i) dz += y(i) * Z[i];
-  const Real final_norm = (r - J * dz).norm();
-  if (final_norm <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
-    coupled_backoff_ = 1;
-    return true;
-  }
-  // The whole system for the next 1, 2, 4, ... solves after each failure in a row.
-  coupled_skip_ = coupled_backoff_;
-  coupled_backoff_ = std::min(2 * coupled_backoff_, 64);
-  why_not_ = fmt::format(
-      "coupled contact rows (segment_to_segment, mortar): GMRES on the condensed preconditioner stalls at {:.1e} of "
-      "the right-hand side after {} steps",
-      final_norm / rnorm, k);
-  return false;
+  const VecX y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+  for (int i = 0; i < k; ++i) x += y(i) * Z[i];
+  return {k, (r - times_A(x)).norm()};
 }
 
 }  // namespace signorini

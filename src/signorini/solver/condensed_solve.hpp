@@ -4,6 +4,7 @@
 // what remains is the displacement system T^T J T, symmetric when the bodies' tangent is, so
 // Cholesky or CG can solve it. The multipliers are recovered from the eliminated DOFs' rows.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,5 +75,20 @@ class CondensedContactSolver {
   int iterations_ = 0;
   int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
 };
+
+// Flexible GMRES (Saad 2003, "Iterative Methods for Sparse Linear Systems", alg. 9.6) on
+// A x = r, right-preconditioned, from the first guess x (updated in place): the preconditioned
+// vectors are kept, so the preconditioner may change from step to step (an inner Krylov solve
+// to a loose tolerance). Stops once the estimated residual is at most `tolerance` (absolute)
+// or after max_steps. Returns the steps taken and the true residual |r - A x| at the end.
+// Every operation is on whole vectors in a fixed order: under MPI each rank runs it alike on
+// its replicated vectors (times_A and precondition being the collective calls).
+struct FlexibleGmresResult {
+  int steps = 0;
+  Real residual = 0;
+};
+FlexibleGmresResult flexible_gmres(const std::function<VecX(const VecX&)>& times_A,
+                                   const std::function<void(const VecX&, VecX&)>& precondition, const VecX& r, VecX& x,
+                                   Real tolerance, int max_steps);
 
 }  // namespace signorini
