@@ -19,6 +19,7 @@
 #include "signorini/core/log.hpp"
 #include "signorini/core/rank_exchange.hpp"
 #include "signorini/solver/backend.hpp"
+#include "signorini/solver/condensed_solve.hpp"
 
 namespace signorini {
 
@@ -758,7 +759,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   }
   int last_iterations() const override { return iterations_; }
   std::string last_method() const override {
-    return (condensed_last_ ? "condensed multipliers, " : "") + describe_ksp(ksp_, s_);
+    return std::string(condensed_last_ ? "condensed multipliers, " : "") +
+           (condensed_last_ && refinements_ > 0 ? "gmres on the coupled rows over " : "") + describe_ksp(ksp_, s_);
   }
 
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
@@ -828,45 +830,69 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       closed.push_back(m);
       for (const auto& [k, a] : row_of[m]) ++count[k];
     }
+    std::map<Index, Real> column;  // sum over closed rows of |a_mk|
+    for (Index m : closed)
+      for (const auto& [k, a] : row_of[m]) column[k] += std::abs(a);
     std::map<Index, size_t> pivot_of;  // pivot unknown -> its closed row
     std::vector<Index> pivot(closed.size());
     std::vector<Real> ap(closed.size()), bp(closed.size());
+    // Exact pivots: in each closed row the largest coefficient on a DOF no other closed row
+    // touches, on whose row the multiplier acts and no other closed one does. Coupled rows
+    // (mortar, segment_to_segment: no DOF belongs to one closed row only) take as condensed_solve
+    // does the DOF where the row dominates its column, |a_mp| / sum over closed rows |a_m'p|,
+    // and the couplings at the other rows' pivots are left out of the elimination (P = J - E);
+    // flexible GMRES on J, preconditioned by it, then gives J's step (below).
+    auto choose_pivots = [&](bool coupled) {
+      pivot_of.clear();
+      for (size_t c = 0; c < closed.size(); ++c) {
+        const Index m = closed[c];
+        Real amax = 0, best = 0;
+        for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
+        std::map<Index, Real> acts;  // J_km over the rows k where m acts
+        for (const auto& [k, b] : col_of[m]) acts[k] = b;
+        pivot[c] = -1;
+        // The row's pivot at an earlier solve (of this pattern), while it still qualifies: T's
+        // pattern then holds (below).
+        const auto before = last_pivot_.find(m);
+        bool kept = false;
+        for (const auto& [k, a] : row_of[m]) {
+          if (std::abs(a) < 0.1 * amax || (!coupled && count[k] != 1) || pivot_of.count(k) || !acts.count(k)) continue;
+          const Real score = coupled ? std::abs(a) / column[k] : std::abs(a);
+          const bool earlier = before != last_pivot_.end() && before->second == k;
+          if (kept || (!earlier && score <= best)) continue;
+          kept = earlier;
+          best = score;
+          pivot[c] = k;
+          ap[c] = a;
+          bp[c] = acts[k];
+        }
+        if (pivot[c] < 0) return false;
+        pivot_of[pivot[c]] = c;
+      }
+      if (coupled) return true;
+      for (const auto& [m, col] : col_of)  // a pivot's row must carry its own multiplier only
+        for (const auto& [k, b] : col) {
+          const auto it = pivot_of.find(k);
+          if (it != pivot_of.end() && closed[it->second] != m && std::binary_search(closed.begin(), closed.end(), m))
+            return false;
+        }
+      return true;
+    };
+    const bool coupled = !choose_pivots(false);
+    if (coupled && !choose_pivots(true))
+      throw cannot("a closed constraint has no DOF of its own (two-pass, self-contact, or a slave node that is also a "
+                   "master node), nor one where it dominates the other closed constraints");
+    // With coupled rows, T's pivot rows leave out the other rows' pivots (E).
+    auto dropped = [&](size_t c, Index k) {
+      const auto it = coupled ? pivot_of.find(k) : pivot_of.end();
+      return it != pivot_of.end() && it->second != c;
+    };
     for (size_t c = 0; c < closed.size(); ++c) {
-      const Index m = closed[c];
-      Real amax = 0, best = 0;
-      for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
-      std::map<Index, Real> acts;  // J_km over the rows k where m acts
-      for (const auto& [k, b] : col_of[m]) acts[k] = b;
-      pivot[c] = -1;
-      // The row's pivot at an earlier solve (of this pattern), while it still qualifies: T's
-      // pattern then holds (below).
-      const auto before = last_pivot_.find(m);
-      bool kept = false;
-      for (const auto& [k, a] : row_of[m]) {
-        if (std::abs(a) < 0.1 * amax || count[k] != 1 || pivot_of.count(k) || !acts.count(k)) continue;
-        const bool earlier = before != last_pivot_.end() && before->second == k;
-        if (kept || (!earlier && std::abs(a) <= best)) continue;
-        kept = earlier;
-        best = std::abs(a);
-        pivot[c] = k;
-        ap[c] = a;
-        bp[c] = acts[k];
-      }
-      if (pivot[c] < 0)
-        throw cannot("a closed constraint has no DOF of its own (two-pass, self-contact, or a slave node that is "
-                     "also a master node)");
-      pivot_of[pivot[c]] = c;
-      last_pivot_[m] = pivot[c];
+      last_pivot_[closed[c]] = pivot[c];
       auto& columns = pivot_columns_[pivot[c]];
-      for (const auto& [k, a] : row_of[m])
-        if (k != pivot[c]) columns.insert(k);
+      for (const auto& [k, a] : row_of[closed[c]])
+        if (k != pivot[c] && !dropped(c, k)) columns.insert(k);
     }
-    for (const auto& [m, column] : col_of)  // a pivot's row must carry its own multiplier only
-      for (const auto& [k, b] : column) {
-        const auto it = pivot_of.find(k);
-        if (it != pivot_of.end() && closed[it->second] != m && std::binary_search(closed.begin(), closed.end(), m))
-          throw cannot("a pivot's row carries another closed multiplier");
-      }
     // T, this rank's rows: identity, but empty for multipliers and the pivots' elimination.
     // A DOF that was a pivot at an earlier solve of this pattern keeps the columns it had then,
     // as stored zeros (its row is the identity again when its constraint opened): T's pattern
@@ -889,7 +915,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       } else {
         const size_t c = it->second;
         for (const auto& [k, a] : row_of[closed[c]])
-          if (k != pivot[c]) rt.emplace_back(row(k), -a / ap[c]);
+          if (k != pivot[c] && !dropped(c, k)) rt.emplace_back(row(k), -a / ap[c]);
       }
       if (const auto pc = u >= 0 && !mult[u] ? pivot_columns_.find(u) : pivot_columns_.end(); pc != pivot_columns_.end())
         for (Index k : pc->second) rt.emplace_back(row(k), 0.0);
@@ -992,39 +1018,72 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     symmetric_ = q.body_symmetric;
     MatSetOption(Kr_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
     if (!same) near_nullspace(Kr_);
-    // z0, then T^T (r - J z0).
-    VecX z0 = VecX::Zero(n_);
-    for (Index m : open) z0(m) = r(m) / diag[m];
-    for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = r(closed[c]) / ap[c];
+    // out = P^-1 rhs: z0, T^T (rhs - J z0) to the Krylov solver, out = T u~ + z0, and the closed
+    // multipliers from their pivots' rows. (J and P = J - E agree on what is read: E sits in
+    // the multipliers' rows, which T^T leaves out, and in closed multipliers' columns, where z0
+    // and out are zero.)
+    const double t_rhs = timer.seconds();
+    double t_krylov = 0;
+    refinements_ = 0;
+    int inner = 0;  // Krylov iterations over the inner solves
     Vec w = nullptr, rr = nullptr;
     check(VecDuplicate(x_, &w), "VecDuplicate");
     check(VecDuplicate(x_, &rr), "VecDuplicate");
-    set_owned(x_, z0);
-    check(MatMult(A_, x_, w), "MatMult");  // J z0
-    set_owned(b_, r);
-    check(VecAYPX(w, -1.0, b_), "VecAYPX");  // r - J z0
-    check(MatMultTranspose(T_, w, rr), "MatMultTranspose");
-    const double t_rhs = timer.seconds();
-    try {
+    auto apply = [&](const VecX& rhs, VecX& out) {
+      VecX z0 = VecX::Zero(n_);
+      for (Index m : open) z0(m) = rhs(m) / diag[m];
+      for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
+      set_owned(x_, z0);
+      check(MatMult(A_, x_, w), "MatMult");  // J z0
+      set_owned(b_, rhs);
+      check(VecAYPX(w, -1.0, b_), "VecAYPX");  // rhs - J z0
+      check(MatMultTranspose(T_, w, rr), "MatMultTranspose");
+      const double t0 = timer.seconds();
       krylov(Kr_, rr, w);  // u~
-      log::debug("    condensed on {} ranks: {} closed, {} open; T {:.2f} s, T^T J T {:.2f} s ({}), diagonal and "
-                 "right-hand side {:.2f} s, Krylov {:.2f} s ({} iterations); this rank's peak memory {:.0f} MiB",
-                 size_, closed.size(), open.size(), t_plan, t_ptap - t_plan, same ? "updated in place" : "new pattern",
-                 t_rhs - t_ptap, timer.seconds() - t_rhs, iterations_, log::peak_memory_mib());
+      t_krylov += timer.seconds() - t0;
+      inner += iterations_;
+      check(MatMult(T_, w, rr), "MatMult");    // T u~
+      check(VecAXPY(rr, 1.0, x_), "VecAXPY");  // + z0
+      check(MatMult(A_, rr, w), "MatMult");    // J out
+      VecX Jout;
+      gather(rr, out);
+      gather(w, Jout);
+      for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Jout(pivot[c])) / bp[c];
+    };
+    try {
+      // Coupled rows: loose inner solves, and flexible GMRES on J to the Newton iteration's
+      // forcing term (condensed_solve's constants, so that one process and several take the
+      // same steps).
+      using C = CondensedContactSolver;
+      const Real forcing = q.rtol > 0 ? q.rtol : s_.rtol;
+      if (coupled) tolerance_ = C::kInnerTolerance;
+      apply(r, du);
+      if (coupled) {
+        const Real rnorm = r.norm(), outer = std::max(C::kRefinementTolerance, forcing);
+        const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX {
+          VecX y;
+          multiply(v, y);
+          return y;
+        }, apply, r, du, outer * rnorm, C::kMaxRefinements);
+        refinements_ = g.steps;
+        if (!(g.residual <= std::max(C::kRefinementAccepted, 2 * outer) * rnorm))
+          throw cannot(fmt::format("coupled contact rows (segment_to_segment, mortar): GMRES on the condensed "
+                                   "preconditioner stalls at {:.1e} of the right-hand side after {} steps",
+                                   g.residual / rnorm, g.steps));
+      }
     } catch (...) {
       VecDestroy(&w);
       VecDestroy(&rr);
+      iterations_ = inner;
       throw;
     }
-    check(MatMult(T_, w, rr), "MatMult");  // T u~
-    check(VecAXPY(rr, 1.0, x_), "VecAXPY");  // + z0
-    check(MatMult(A_, rr, w), "MatMult");    // J du
-    VecX Jdu;
-    gather(rr, du);
-    gather(w, Jdu);
     VecDestroy(&w);
     VecDestroy(&rr);
-    for (size_t c = 0; c < closed.size(); ++c) du(closed[c]) = (r(pivot[c]) - Jdu(pivot[c])) / bp[c];
+    iterations_ = inner;
+    log::debug("    condensed on {} ranks: {} closed, {} open{}; T {:.2f} s, T^T J T {:.2f} s ({}), diagonal {:.2f} s, Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
+               size_, closed.size(), open.size(), coupled ? " (coupled rows)" : "", t_plan, t_ptap - t_plan,
+               same ? "updated in place" : "new pattern", t_rhs - t_ptap, t_krylov, inner,
+               coupled ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
     return "condensed+" + s_.type;
   }
@@ -1522,6 +1581,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::shared_ptr<const UnknownLayout> layout_;
   int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
   bool condensed_last_ = false;  // the last solve condensed the contact multipliers
+  int refinements_ = 0;          // its flexible GMRES steps (coupled rows; 0 when the elimination is exact)
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
   Real configured_rtol_ = 0;  // configure_ksp's
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
