@@ -66,6 +66,11 @@ if linear_type == "auto":
 methods = {inc.get("linear_method", "") for inc in many["increments"] if inc["iterations"] > 0}
 expected_method = {"gamg": ", gamg (", "hypre": ", hypre (", "mumps": "(mumps)"}.get(many["linear"]["type"], "")
 assert all(m and expected_method in m for m in methods), "linear_method %s for %s" % (methods, many["linear"]["type"])
+# The ranks take Newton's steps of one process: the same system solved to the same forcing
+# terms (the coupled contact rows' flexible GMRES too), only the preconditioner's aggregation
+# differs, so a few iterations more at most.
+assert many["total_iterations"] <= one["total_iterations"] + max(2, one["total_iterations"] // 5), \
+    "%d Newton iterations on %d ranks against %d on one" % (many["total_iterations"], ranks, one["total_iterations"])
 # Mortar's slave facets are dealt out to the ranks, each integrating its share (the checks and
 # fields below then show that the exchanged constraints are the one-process ones). Nitsche's
 # method (segment_to_segment's class, on mortar's segments or its own) deals its points out when

@@ -1080,9 +1080,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     VecDestroy(&w);
     VecDestroy(&rr);
     iterations_ = inner;
-    log::debug("    condensed on {} ranks: {} closed, {} open{}; T {:.2f} s, T^T J T {:.2f} s ({}), diagonal {:.2f} s, Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
+    log::debug("    condensed on {} ranks: {} closed, {} open{}; T {:.2f} s, T^T J T {:.2f} s ({}{}), diagonal {:.2f} s, Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
                size_, closed.size(), open.size(), coupled ? " (coupled rows)" : "", t_plan, t_ptap - t_plan,
-               same ? "updated in place" : "new pattern", t_rhs - t_ptap, t_krylov, inner,
+               same ? "updated in place" : "new pattern", same ? "" : fmt::format(", its pattern {:.2f} s", t_symbolic), t_rhs - t_ptap, t_krylov, inner,
                coupled ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
     return "condensed+" + s_.type;
