@@ -789,6 +789,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     return s_.type;
   }
 
+  // Coupled rows: a pivot row's coefficients below this fraction of the pivot's are left out of
+  // the elimination (solve_condensed).
+  static constexpr Real kCoupledDrop = 1e-2;
   // Contact multipliers for algebraic multigrid (node-to-segment and node-to-node, one pass):
   // the elimination of condensed_solve.hpp on the distributed matrix. Each closed multiplier
   // row m, a_m . du = r_m, eliminates a pivot DOF p of its own (the largest |a_mp| of a DOF no
@@ -882,16 +885,25 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (coupled && !choose_pivots(true))
       throw cannot("a closed constraint has no DOF of its own (two-pass, self-contact, or a slave node that is also a "
                    "master node), nor one where it dominates the other closed constraints");
-    // With coupled rows, T's pivot rows leave out the other rows' pivots (E).
-    auto dropped = [&](size_t c, Index k) {
-      const auto it = coupled ? pivot_of.find(k) : pivot_of.end();
+    // With coupled rows, T's pivot rows leave out the other rows' pivots and the coefficients
+    // below kCoupledDrop of the pivot's (E: in closed multiplier rows only, so the elimination
+    // stays exact for P and GMRES on J is unchanged; only P^-1's quality is at stake). Each
+    // kept entry of a pivot's row fans row p of J T out into one more row of T^T J T: on CalculiX's fine
+    // tet10 Hertz mesh (mortar, tri6 slave facets, about 190 entries per row, most of them
+    // small: master nodes at the edge of a segment, the normal's variation) the product took
+    // 10 s per Newton iteration with every entry and 2.4-3 s with this drop, for the same
+    // Krylov iterations (docs/performance.md, session 55).
+    auto dropped = [&](size_t c, Index k, Real a) {
+      if (!coupled) return false;
+      if (std::abs(a) < kCoupledDrop * std::abs(ap[c])) return true;
+      const auto it = pivot_of.find(k);
       return it != pivot_of.end() && it->second != c;
     };
     for (size_t c = 0; c < closed.size(); ++c) {
       last_pivot_[closed[c]] = pivot[c];
       auto& columns = pivot_columns_[pivot[c]];
       for (const auto& [k, a] : row_of[closed[c]])
-        if (k != pivot[c] && !dropped(c, k)) columns.insert(k);
+        if (k != pivot[c] && !dropped(c, k, a)) columns.insert(k);
     }
     // T, this rank's rows: identity, but empty for multipliers and the pivots' elimination.
     // A DOF that was a pivot at an earlier solve of this pattern keeps the columns it had then,
@@ -915,7 +927,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       } else {
         const size_t c = it->second;
         for (const auto& [k, a] : row_of[closed[c]])
-          if (k != pivot[c] && !dropped(c, k)) rt.emplace_back(row(k), -a / ap[c]);
+          if (k != pivot[c] && !dropped(c, k, a)) rt.emplace_back(row(k), -a / ap[c]);
       }
       if (const auto pc = u >= 0 && !mult[u] ? pivot_columns_.find(u) : pivot_columns_.end(); pc != pivot_columns_.end())
         for (Index k : pc->second) rt.emplace_back(row(k), 0.0);
