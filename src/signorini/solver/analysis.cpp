@@ -258,34 +258,22 @@ Analysis::Analysis(Model& model)
 // its rows of one distributed matrix). Algebraic multigrid needs the contact multipliers
 // condensed: the distributed backend does it, each closed constraint eliminating a slave DOF
 // of its own (node-to-segment, node-to-node) or, for coupled rows (mortar,
-// segment-to-segment), the DOF where it dominates, with flexible GMRES on the whole system
-// (condensed_solve.hpp's method). Two passes (a node slave of one and master of the other)
-// keep the replicated path: every rank assembles the whole system and PETSc distributes the
-// solve.
+// segment-to-segment, two passes), the DOF where it dominates, with flexible GMRES on the
+// whole system (condensed_solve.hpp's method). Where that fails, `auto` takes the whole
+// system to MUMPS; gamg or hypre chosen in the deck stop the run, as in one process.
 void Analysis::choose_algebra() {
   const int ranks = parallel_ranks();
   if (ranks <= 1) return;
-  // The first pair whose multipliers the distributed backend does not condense for algebraic
-  // multigrid (two passes), and the first whose rows are coupled.
-  auto pair_where = [&](bool coupled) -> const ContactPairSettings* {
-    if (!has_multipliers_) return nullptr;
-    for (const ContactPairSettings& cs : model_.contacts)
-      if (cs.passes != 1 ||
-          (coupled && cs.discretization != "node_to_segment" && cs.discretization != "node_to_node"))
-        return &cs;
-    return nullptr;
-  };
   if (model_.linear_solver.type == "auto") {
     // Under mpirun `auto` picks a solver PETSc distributes, as it does in one process: algebraic
     // multigrid for a symmetric 3D system above iterative_above unknowns, a direct solver
-    // (MUMPS: LDL^T when symmetric, else LU; any saddle point of multipliers) otherwise. GAMG
-    // only where the distributed backend condenses the multipliers exactly (one-pass
-    // node-to-segment or node-to-node, frictionless) and the bodies' tangent is symmetric:
-    // coupled rows' GMRES can stall, and one process then falls back to a direct solve of the
-    // whole system, which the distributed backend does not (a stall there ends the run).
+    // (MUMPS: LDL^T when symmetric, else LU; any saddle point of multipliers) otherwise. With
+    // algebraic multigrid the contact multipliers are condensed, and a system the condensation
+    // cannot take goes whole to MUMPS (direct_fallback), as one process's `auto` takes UMFPACK.
     bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
-    amg = amg && symmetric_solves() && !pair_where(true);
+    amg = amg && symmetric_solves();
     model_.linear_solver.type = amg ? "gamg" : "mumps";
+    model_.linear_solver.direct_fallback = amg;
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
               amg ? ", symmetric, 3D" : "");
   }
@@ -293,13 +281,6 @@ void Analysis::choose_algebra() {
   if (!is_petsc_solver(linear)) {
     algebra_ = fmt::format("replicated on {} ranks (linear solver {} runs on each: only gamg, hypre, mumps and petsc "
                            "are distributed)", ranks, linear);
-    return;
-  }
-  if (const ContactPairSettings* cs = is_amg_solver(linear) ? pair_where(false) : nullptr) {
-    algebra_ = fmt::format("replicated on {} ranks, the solve distributed by PETSc ({} needs the contact "
-                           "multipliers of pair '{}' ({}, {} passes) condensed on the whole matrix; enforcement: "
-                           "penalty, or linear: mumps, assembles partitioned)",
-                           ranks, linear, cs->name, cs->discretization, cs->passes);
     return;
   }
 #ifdef SIGNORINI_HAVE_PETSC

@@ -257,7 +257,8 @@ class Analysis {
   std::unique_ptr<AlgebraBackend> backend_;  // the global tangent, its pattern and the Newton solve
   // Under mpirun with a PETSc solver: how the ranks share the algebra ("partitioned": each
   // assembles its own cells into its rows of one distributed matrix; "replicated": each
-  // assembles the whole system, PETSc distributes the solve), and why when replicated.
+  // assembles the whole system, PETSc distributes the solve: only for a solver PETSc does not
+  // distribute, which the deck check refuses under mpirun), and why when replicated.
   std::string algebra_ = "serial";
   // Per body and block, whether this rank assembles each cell (partitioned assembly only).
   std::vector<std::vector<std::vector<char>>> owned_cells_;

@@ -41,6 +41,10 @@ struct LinearSolverSettings {
   // memory against GAMG's 1.5 GB; the tet4 Hertz example at 148k DOFs, 1.58e8 entries, 2.3 GB
   // and 180 s against 0.6 GB and 29 s: docs/performance.md). 0: no limit.
   Real direct_factor_limit = 5e7;
+  // Under mpirun, when `auto` took algebraic multigrid (not a deck key): contact multipliers
+  // the partitioned backend cannot condense, or whose coupled rows' GMRES stalls, go whole to
+  // MUMPS instead of stopping the run (as one process's `auto` takes UMFPACK).
+  bool direct_fallback = false;
   LinearSolverSettings() = default;
   LinearSolverSettings(const char* t) : type(t) {}  // NOLINT: a bare name is a type
   LinearSolverSettings(std::string t) : type(std::move(t)) {}  // NOLINT

@@ -759,6 +759,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   }
   int last_iterations() const override { return iterations_; }
   std::string last_method() const override {
+    if (direct_last_) return "contact multipliers kept, " + direct_method_;
     return std::string(condensed_last_ ? "condensed multipliers, " : "") +
            (condensed_last_ && refinements_ > 0 ? "gmres on the coupled rows over " : "") + describe_ksp(ksp_, s_);
   }
@@ -767,12 +768,31 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     iterations_ = 0;
     tolerance_ = q.rtol;
     condensed_last_ = q.is_multiplier && is_amg_solver(s_.type);
+    direct_last_ = false;
     if (q.is_multiplier && is_amg_solver(s_.type)) {
       if (!q.condense_contact)
         throw FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
                               " ranks cannot take the contact multipliers' saddle point (use enforcement: penalty, or "
                               "linear: mumps)");
-      return solve_condensed(q, r, du);
+      // `auto`'s algebraic multigrid (direct_fallback): a system the condensation cannot take
+      // (no pivot, or the coupled rows' GMRES stalling) goes whole to MUMPS, as one process's
+      // `auto` takes UMFPACK, for that solve and the next 1, 2, 4, ... after each failure in a
+      // row. Every rank reaches the same decision (the condensation's data are on every rank).
+      if (s_.direct_fallback && direct_skip_ > 0) {
+        --direct_skip_;
+        return solve_whole_direct(q, r, du);
+      }
+      try {
+        std::string used = solve_condensed(q, r, du);
+        direct_backoff_ = 1;
+        return used;
+      } catch (const CannotCondense& e) {
+        if (!s_.direct_fallback) throw;
+        direct_skip_ = direct_backoff_;
+        direct_backoff_ = std::min(2 * direct_backoff_, 64);
+        log::info("    contact multipliers kept in the linear system (MUMPS on {} ranks): {}", size_, e.why);
+        return solve_whole_direct(q, r, du);
+      }
     }
     ensure_assembled();
     if (q.symmetric != symmetric_ || !ksp_) configured_ = false;
@@ -792,6 +812,42 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   // Coupled rows: a pivot row's coefficients below this fraction of the pivot's are left out of
   // the elimination (solve_condensed).
   static constexpr Real kCoupledDrop = 1e-2;
+  // solve_condensed's refusal: a structure it cannot eliminate, or a GMRES that stalled.
+  struct CannotCondense : FatalModelError {
+    CannotCondense(const std::string& message, std::string reason) : FatalModelError(message), why(std::move(reason)) {}
+    std::string why;
+  };
+  // The whole system, multipliers and all, to MUMPS (LDL^T when symmetric, else LU), its own
+  // Krylov object under the options prefix signorini_direct_ (the deck's raw options are for
+  // the algebraic multigrid), destroyed after the solve so that its factor does not stay.
+  std::string solve_whole_direct(const NewtonSolveRequest& q, const VecX& r, VecX& du) {
+    ensure_assembled();
+    condensed_last_ = false;
+    direct_last_ = true;
+    LinearSolverSettings direct = s_;
+    direct.type = "mumps";
+    KSP ksp = nullptr;
+    check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
+    KSPSetOptionsPrefix(ksp, "signorini_direct_");
+    check(KSPSetOperators(ksp, A_, A_), "KSPSetOperators");
+    MatSetOption(A_, MAT_SYMMETRIC, q.symmetric ? PETSC_TRUE : PETSC_FALSE);
+    configure_ksp(ksp, direct, q.symmetric);
+    set_owned(b_, r);
+    KSPConvergedReason reason;
+    const PetscErrorCode code = solve_krylov(ksp, b_, x_, reason);
+    direct_method_ = describe_ksp(ksp, direct);
+    KSPDestroy(&ksp);
+    if (code != 0 || reason < 0) {
+      const char* text = nullptr;
+      if (code != 0) PetscErrorMessage(code, &text, nullptr);
+      throw SolverError(fmt::format("linear solver mumps (the whole contact system) failed ({})",
+                                    code != 0 ? (text ? text : "unknown error") : KSPConvergedReasons[reason]));
+    }
+    gather(x_, du);
+    iterations_ = 0;
+    if (!du.allFinite()) throw SolverError("linear solver mumps gave a non-finite solution");
+    return "mumps";
+  }
   // Contact multipliers for algebraic multigrid (node-to-segment and node-to-node, one pass):
   // the elimination of condensed_solve.hpp on the distributed matrix. Each closed multiplier
   // row m, a_m . du = r_m, eliminates a pivot DOF p of its own (the largest |a_mp| of a DOF no
@@ -804,10 +860,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     ensure_assembled();
     const std::vector<char>& mult = *q.is_multiplier;
     auto cannot = [&](const std::string& why) {
-      return FatalModelError("linear solver " + s_.type + " on " + std::to_string(size_) +
-                             " ranks cannot condense this contact system: " + why +
-                             " (use linear: mumps, or enforcement: penalty)");
+      return CannotCondense("linear solver " + s_.type + " on " + std::to_string(size_) +
+                                " ranks cannot condense this contact system: " + why +
+                                " (use linear: mumps, or enforcement: penalty)",
+                            why);
     };
+    // SIGNORINI_REFUSE_CONDENSATION (the MPI test of `auto`'s fallback): every condensation refused.
+    if (std::getenv("SIGNORINI_REFUSE_CONDENSATION")) throw cannot("refused (SIGNORINI_REFUSE_CONDENSATION)");
     // The multipliers' rows (a_m) and columns (b_m) and diagonals, from the entries kept.
     std::map<Index, std::vector<std::pair<Index, Real>>> row_of, col_of;
     std::map<Index, Real> diag;
@@ -1594,6 +1653,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   int size_ = 1, rank_ = 0, bs_ = 1, iterations_ = 0;
   bool condensed_last_ = false;  // the last solve condensed the contact multipliers
   int refinements_ = 0;          // its flexible GMRES steps (coupled rows; 0 when the elimination is exact)
+  bool direct_last_ = false;     // the last solve took the whole system to MUMPS (solve_whole_direct)
+  std::string direct_method_;
+  int direct_skip_ = 0, direct_backoff_ = 1;  // solves left whole after a failed condensation, and the next run's length
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
   Real configured_rtol_ = 0;  // configure_ksp's
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;

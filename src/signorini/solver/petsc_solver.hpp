@@ -27,10 +27,9 @@ std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& s
 void finalize_petsc();
 
 // Several MPI ranks (mpirun -np N): every rank reads the deck and runs the same Newton
-// iterations on replicated vectors; the assembly is partitioned (make_petsc_backend) or, when
-// contact multipliers are condensed for algebraic multigrid, every rank assembles the whole
-// system and the PETSc solvers distribute the solve (each gives PETSc its own block of rows
-// and receives the whole solution). Only rank 0 writes files and prints. Started at the
+// iterations on replicated vectors; the assembly is partitioned (make_petsc_backend: each rank
+// its own cells into its rows of one PETSc matrix, contact multipliers condensed there for
+// algebraic multigrid). Only rank 0 writes files and prints. Started at the
 // beginning of main when the process was launched by mpirun (launched_ranks() > 1).
 struct MpiInfo {
   int rank = 0, size = 1;
