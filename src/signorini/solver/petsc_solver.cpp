@@ -848,13 +848,14 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (!du.allFinite()) throw SolverError("linear solver mumps gave a non-finite solution");
     return "mumps";
   }
-  // Contact multipliers for algebraic multigrid (node-to-segment and node-to-node, one pass):
-  // the elimination of condensed_solve.hpp on the distributed matrix. Each closed multiplier
-  // row m, a_m . du = r_m, eliminates a pivot DOF p of its own (the largest |a_mp| of a DOF no
-  // other closed row touches and on whose row m acts), du = T u~ + z0, and T^T J T u~ =
-  // T^T (r - J z0) goes to the Krylov solver (MatPtAP: no rank forms more than its rows);
+  // Contact multipliers for algebraic multigrid: the elimination of condensed_solve.hpp on the
+  // distributed matrix. Each closed multiplier row m, a_m . du = r_m, eliminates a pivot DOF p
+  // (node-to-segment, node-to-node: the largest |a_mp| of a DOF no other closed row touches and
+  // on whose row m acts; coupled rows: below), du = T u~ + z0, and T^T J T u~ = T^T (r - J z0)
+  // goes to the Krylov solver (condensed_product: no rank forms more than its rows of J);
   // dl_m = (r_p - (J du)_p) / J_pm. T keeps the pivots' places (their rows and columns of the
   // reduced matrix empty, a decoupled diagonal added), so that the node blocks survive.
+  // Throws CannotCondense where it cannot be made, or where the coupled rows' GMRES stalls.
   std::string solve_condensed(const NewtonSolveRequest& q, const VecX& r, VecX& du) {
     log::Timer timer;
     ensure_assembled();
