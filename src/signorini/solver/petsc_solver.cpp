@@ -843,8 +843,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       throw SolverError(fmt::format("linear solver mumps (the whole contact system) failed ({})",
                                     code != 0 ? (text ? text : "unknown error") : KSPConvergedReasons[reason]));
     }
-    gather(x_, du);
-    iterations_ = 0;
+    gather(x_, du);  // iterations_: a refused condensation's Krylov iterations, MUMPS adding none
     if (!du.allFinite()) throw SolverError("linear solver mumps gave a non-finite solution");
     return "mumps";
   }
