@@ -833,16 +833,14 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     MatSetOption(A_, MAT_SYMMETRIC, q.symmetric ? PETSC_TRUE : PETSC_FALSE);
     configure_ksp(ksp, direct, q.symmetric);
     set_owned(b_, r);
-    KSPConvergedReason reason;
-    const PetscErrorCode code = solve_krylov(ksp, b_, x_, reason);
     direct_method_ = describe_ksp(ksp, direct);
-    KSPDestroy(&ksp);
-    if (code != 0 || reason < 0) {
-      const char* text = nullptr;
-      if (code != 0) PetscErrorMessage(code, &text, nullptr);
-      throw SolverError(fmt::format("linear solver mumps (the whole contact system) failed ({})",
-                                    code != 0 ? (text ? text : "unknown error") : KSPConvergedReasons[reason]));
+    try {
+      solve_or_throw(ksp, b_, x_, "mumps (the whole contact system)", [](PetscInt) {});
+    } catch (...) {
+      KSPDestroy(&ksp);
+      throw;
     }
+    KSPDestroy(&ksp);
     gather(x_, du);  // iterations_: a refused condensation's Krylov iterations, MUMPS adding none
     if (!du.allFinite()) throw SolverError("linear solver mumps gave a non-finite solution");
     return "mumps";
@@ -1281,19 +1279,25 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       configured_ = true;
     }
     apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
+    solve_or_throw(ksp_, b, x, s_.type, [&](PetscInt its) { iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its); });
+  }
+  // KSPSolve with `ksp`; `counted` gets its iterations, then a PETSc error or a diverged solve
+  // throws SolverError naming `name`.
+  static void solve_or_throw(KSP ksp, Vec b, Vec x, const std::string& name,
+                             const std::function<void(PetscInt)>& counted) {
     KSPConvergedReason reason;
-    const PetscErrorCode code = solve_krylov(ksp_, b, x, reason);
+    const PetscErrorCode code = solve_krylov(ksp, b, x, reason);
     if (code != 0) {
       const char* text = nullptr;
       PetscErrorMessage(code, &text, nullptr);
-      throw SolverError(fmt::format("linear solver {} failed ({})", s_.type, text ? text : "unknown error"));
+      throw SolverError(fmt::format("linear solver {} failed ({})", name, text ? text : "unknown error"));
     }
     PetscInt its = 0;
-    KSPGetIterationNumber(ksp_, &its);
-    iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);
+    KSPGetIterationNumber(ksp, &its);
+    counted(its);
     if (reason < 0)
       throw SolverError(fmt::format("linear solver {}: the Krylov solver did not converge ({} after {} iterations)",
-                                    s_.type, KSPConvergedReasons[reason], its));
+                                    name, KSPConvergedReasons[reason], its));
   }
 
   void begin_cells() override {
