@@ -121,6 +121,28 @@ TEST(Petsc, MumpsSolvesTheWholeMultiplierSystemAndGamgTheAxisymmetricOne) {
   expect_same_answer("hertz_sphere_axisymmetric", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", "condensed+gamg");
 }
 
+TEST(Petsc, MumpsRaisesItsWorkingSpaceWhenPivotsAreDelayed) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // examples/brinell's press step (finite-strain J2 plasticity, the contact multipliers kept,
+  // LU with pivoting) on MUMPS: at 75 % of the depth the factorization ran short of the working
+  // space MUMPS allots (the analysis' estimate + ICNTL(14) = 20 %; INFOG(1) = -9), and every
+  // cutback then failed as well, since PETSc does not factorize again a MUMPS factor whose last
+  // phase failed: the run gave up (one process as on two ranks; session 56). The failed factor is
+  // now dropped and ICNTL(14) doubled (twice here, to 80 %), and the step completes. (Two of
+  // its Newton iterations, at 80 % and 96 %, give a non-finite solution whatever the working
+  // space, -mat_mumps_icntl_14 100 as well: those increments are cut back once.)
+  std::string deck = example_deck("brinell", "solver: {linear: mumps}\n");
+  const size_t lift = deck.find("  - name: lift"), output = deck.find("output:");
+  ASSERT_TRUE(lift != std::string::npos && output != std::string::npos && lift < output);
+  deck.erase(lift, output - lift);
+  const test::HertzRun r = test::run_deck_text(deck, "brinell_mumps");
+  ASSERT_TRUE(r.summary.completed) << r.summary.failure;
+  ASSERT_FALSE(r.summary.increments.empty());
+  EXPECT_DOUBLE_EQ(r.summary.increments.back().fraction, 1.0);
+  for (const auto& inc : r.summary.increments)
+    if (inc.iterations > 0) EXPECT_EQ(inc.linear_solver, "mumps");
+}
+
 TEST(Petsc, AlgebraicMultigridRefusesAnUncondensableMultiplierSystem) {
   if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
   // condense_contact: false would leave the saddle point, which algebraic multigrid cannot

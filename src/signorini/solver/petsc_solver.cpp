@@ -171,14 +171,116 @@ bool cg_to_gmres_if_indefinite(KSP ksp, KSPConvergedReason reason) {
   return true;
 }
 
-// KSPSolve, and once more after cg_to_gmres_if_indefinite switched; `reason` the last solve's.
-// Returns PETSc's error code (0: the solve ran, converged or not).
-PetscErrorCode solve_krylov(KSP ksp, Vec b, Vec x, KSPConvergedReason& reason) {
-  for (int attempt = 0;; ++attempt) {
+// MUMPS's factor behind `ksp`'s preconditioner, or null (another preconditioner, or none yet).
+Mat mumps_factor(KSP ksp) {
+  PC pc = nullptr;
+  Mat F = nullptr;
+  MatSolverType type = nullptr;
+  if (KSPGetPC(ksp, &pc) != 0 || PCFactorGetMatrix(pc, &F) != 0 || !F) return nullptr;
+  if (MatFactorGetSolverType(F, &type) != 0 || !type || std::string(type) != MATSOLVERMUMPS) return nullptr;
+  return F;
+}
+
+// The keys of the MUMPS working-space options this process raised (after_failed_factor).
+std::map<std::string, PetscInt>& raised_workspace_options() {
+  static std::map<std::string, PetscInt> raised;
+  return raised;
+}
+
+// MUMPS's INFOG(1) for a working space too small: -8, -9, -11, -12, -14, -15, -17, -20 (MUMPS
+// 5.5 users' guide, sec. 8, each "increase ICNTL(14)").
+bool mumps_short_of_space(PetscInt info) {
+  return info == -8 || info == -9 || info == -11 || info == -12 || info == -14 || info == -15 || info == -17 ||
+         info == -20;
+}
+
+// After `ksp`'s factorization failed. MUMPS allocates its working space from the analysis'
+// estimate plus ICNTL(14) per cent (MUMPS 5.5 users' guide, ICNTL(14)); pivoting on an
+// indefinite matrix (the contact multipliers' saddle point) delays pivots beyond that estimate,
+// and the factorization stops short of space (mumps_short_of_space). Measured: examples/brinell with linear:
+// mumps, one process as on two ranks, stopped at 75 % of its press step, every cutback failing.
+// Such a failure doubles ICNTL(14) (at least 40 %, at most 1280 %), through the options
+// database so that every later factor of this prefix gets it too (a raw -mat_mumps_icntl_14 of
+// the deck's stays: no retry then). Any failed MUMPS factor is dropped (PCReset) so that the
+// next setup analyses and factorizes anew: PETSc's MatFactorNumeric_MUMPS returns at once,
+// without factorizing, while INFOG(1) < 0 from the last phase, so a failed factor would
+// otherwise fail every later solve of the pattern (the cutbacks above). INFOG and ICNTL are the
+// same on every rank, so every rank decides alike (collective).
+struct MumpsFailure {
+  PetscInt info = 0;   // MUMPS's INFOG(1) (0: no MUMPS factor)
+  bool retry = false;  // the working space was raised: set up again
+};
+MumpsFailure after_failed_factor(KSP ksp) {
+  MumpsFailure out;
+#ifdef PETSC_HAVE_MUMPS
+  Mat F = mumps_factor(ksp);
+  if (!F) return out;
+  PetscInt percent = 0;
+  MatMumpsGetInfog(F, 1, &out.info);
+  MatMumpsGetIcntl(F, 14, &percent);
+  // The factor dropped; PCReset drops the operators too, which go back at once.
+  PC pc = nullptr;
+  Mat A = nullptr, P = nullptr;
+  KSPGetPC(ksp, &pc);
+  PCGetOperators(pc, &A, &P);
+  PetscObjectReference(reinterpret_cast<PetscObject>(A));
+  PetscObjectReference(reinterpret_cast<PetscObject>(P));
+  PCReset(pc);
+  PCSetFailedReason(pc, PC_NOERROR);
+  KSPSetOperators(ksp, A, P);
+  MatDestroy(&A);
+  MatDestroy(&P);
+  if (!mumps_short_of_space(out.info)) return out;
+  const char* prefix = nullptr;
+  KSPGetOptionsPrefix(ksp, &prefix);
+  const std::string key = fmt::format("-{}mat_mumps_icntl_14", prefix ? prefix : "");
+  PetscBool given = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, key.c_str(), &given);
+  auto& raised = raised_workspace_options();
+  const bool own = given && !raised.count(key);
+  if (own || percent >= 1280) {
+    log::info("    MUMPS ran short of working space (INFOG(1) = {}) with ICNTL(14) = {} %{}", out.info, percent,
+              own ? " (the deck's own)" : "");
+    return out;
+  }
+  const PetscInt more = std::min<PetscInt>(1280, std::max<PetscInt>(2 * percent, 40));
+  raised[key] = more;
+  PetscOptionsSetValue(nullptr, key.c_str(), std::to_string(more).c_str());
+  log::info("    MUMPS ran short of working space (INFOG(1) = {}): ICNTL(14) {} -> {} %, factorizing again", out.info,
+            percent, more);
+  out.retry = true;
+#else
+  (void)ksp;
+#endif
+  return out;
+}
+
+// Why a preconditioner failed, for the error message: MUMPS's INFOG(1) when it was MUMPS.
+std::string failed_factor_words(const MumpsFailure& f) {
+  if (f.info == 0) return "";
+  return fmt::format("; MUMPS INFOG(1) = {}{}", f.info,
+                     mumps_short_of_space(f.info) ? ", short of working space (-mat_mumps_icntl_14)"
+                     : f.info == -13          ? ", out of memory"
+                                              : "");
+}
+
+// KSPSolve, and once more after cg_to_gmres_if_indefinite switched or MUMPS's working space was
+// raised (after_failed_factor); `reason` the last solve's, `mumps` what MUMPS said when its
+// factor failed. Returns PETSc's error code (0: the solve ran, converged or not).
+PetscErrorCode solve_krylov(KSP ksp, Vec b, Vec x, KSPConvergedReason& reason, MumpsFailure* mumps = nullptr) {
+  bool switched = false;
+  for (;;) {
     const PetscErrorCode code = KSPSolve(ksp, b, x);
     if (code != 0) return code;
     KSPGetConvergedReason(ksp, &reason);
-    if (attempt > 0 || !cg_to_gmres_if_indefinite(ksp, reason)) return 0;
+    if (reason == KSP_DIVERGED_PC_FAILED) {
+      const MumpsFailure f = after_failed_factor(ksp);
+      if (mumps) *mumps = f;
+      if (f.retry) continue;
+      return 0;
+    }
+    if (switched || !cg_to_gmres_if_indefinite(ksp, reason)) return 0;
+    switched = true;
   }
 }
 
@@ -278,16 +380,19 @@ class PetscKsp final : public LinearSolver {
     try {
       copy_matrix(a);
       configure();
-      check(KSPSetUp(ksp_), "the preconditioner's setup");
-      PCFailedReason reason = PC_NOERROR;
-      PC pc = nullptr;
-      KSPGetPC(ksp_, &pc);
-      PCGetFailedReason(pc, &reason);
-      if (reason != PC_NOERROR) {
-        failure_ = fmt::format("the preconditioner's setup failed ({})", PCFailedReasons[reason]);
+      for (;;) {
+        check(KSPSetUp(ksp_), "the preconditioner's setup");
+        PCFailedReason reason = PC_NOERROR;
+        PC pc = nullptr;
+        KSPGetPC(ksp_, &pc);
+        PCGetFailedReason(pc, &reason);
+        if (reason == PC_NOERROR) return true;
+        const MumpsFailure mumps = after_failed_factor(ksp_);  // MUMPS: more working space, or a fresh factor next time
+        if (mumps.retry) continue;
+        failure_ = fmt::format("the preconditioner's setup failed ({}{})", PCFailedReasons[reason],
+                               failed_factor_words(mumps));
         return false;
       }
-      return true;
     } catch (const Error& e) {
       failure_ = e.what();
       return false;
@@ -304,13 +409,14 @@ class PetscKsp final : public LinearSolver {
       VecRestoreArray(b_, &pb);
       apply_tolerance(ksp_, s_, tolerance_, configured_rtol_);
       KSPConvergedReason reason;
-      check(solve_krylov(ksp_, b_, x_, reason), "KSPSolve");
+      MumpsFailure mumps;
+      check(solve_krylov(ksp_, b_, x_, reason, &mumps), "KSPSolve");
       PetscInt its = 0;
       KSPGetIterationNumber(ksp_, &its);
       iterations_ = s_.type == "mumps" ? 0 : static_cast<int>(its);  // a direct solve: no Krylov iterations
       if (reason < 0) {
-        failure_ = fmt::format("the Krylov solver did not converge ({} after {} iterations)",
-                               KSPConvergedReasons[reason], its);
+        failure_ = fmt::format("the Krylov solver did not converge ({} after {} iterations{})",
+                               KSPConvergedReasons[reason], its, failed_factor_words(mumps));
         return false;
       }
       // The whole solution on every rank (each goes on with the same Newton iteration).
@@ -324,7 +430,11 @@ class PetscKsp final : public LinearSolver {
       check(VecGetArrayRead(whole, &px), "VecGetArrayRead");
       x = Eigen::Map<const VecX>(px, n);
       VecRestoreArrayRead(whole, &px);
-      return x.allFinite();
+      if (!x.allFinite()) {
+        failure_ = "the solution is not finite";
+        return false;
+      }
+      return true;
     } catch (const Error& e) {
       failure_ = e.what();
       return false;
@@ -1286,7 +1396,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   static void solve_or_throw(KSP ksp, Vec b, Vec x, const std::string& name,
                              const std::function<void(PetscInt)>& counted) {
     KSPConvergedReason reason;
-    const PetscErrorCode code = solve_krylov(ksp, b, x, reason);
+    MumpsFailure mumps;
+    const PetscErrorCode code = solve_krylov(ksp, b, x, reason, &mumps);
     if (code != 0) {
       const char* text = nullptr;
       PetscErrorMessage(code, &text, nullptr);
@@ -1296,8 +1407,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     KSPGetIterationNumber(ksp, &its);
     counted(its);
     if (reason < 0)
-      throw SolverError(fmt::format("linear solver {}: the Krylov solver did not converge ({} after {} iterations)",
-                                    name, KSPConvergedReasons[reason], its));
+      throw SolverError(fmt::format("linear solver {}: the Krylov solver did not converge ({} after {} iterations{})",
+                                    name, KSPConvergedReasons[reason], its, failed_factor_words(mumps)));
   }
 
   void begin_cells() override {
