@@ -199,18 +199,22 @@ bool mumps_short_of_space(PetscInt info) {
 // indefinite matrix (the contact multipliers' saddle point) delays pivots beyond that estimate,
 // and the factorization stops short of space (mumps_short_of_space). Measured: examples/brinell with linear:
 // mumps, one process as on two ranks, stopped at 75 % of its press step, every cutback failing.
-// Such a failure doubles ICNTL(14) (at least 40 %, at most 1280 %), through the options
-// database so that every later factor of this prefix gets it too (a raw -mat_mumps_icntl_14 of
-// the deck's stays: no retry then). Any failed MUMPS factor is dropped (PCReset) so that the
+// Such a failure doubles ICNTL(14) (at least 40 %), twice at most per solve (`may_raise`) and
+// to kMumpsMostWorkspace at most, through the options database so that every later factor of
+// this prefix gets it too (a raw -mat_mumps_icntl_14 of the deck's stays: no retry then). The
+// bounds matter: MUMPS allocates that space, for the rest of the run, and a Newton iterate that
+// has run away (a singular tangent) also delays pivots past any margin: on brinell's press
+// with `auto`, one iteration doubled it up to 1280 % before UMFPACK found the matrix singular. Any failed MUMPS factor is dropped (PCReset) so that the
 // next setup analyses and factorizes anew: PETSc's MatFactorNumeric_MUMPS returns at once,
 // without factorizing, while INFOG(1) < 0 from the last phase, so a failed factor would
 // otherwise fail every later solve of the pattern (the cutbacks above). INFOG and ICNTL are the
 // same on every rank, so every rank decides alike (collective).
+constexpr PetscInt kMumpsMostWorkspace = 160;  // per cent: 2.6 times the analysis' estimate
 struct MumpsFailure {
   PetscInt info = 0;   // MUMPS's INFOG(1) (0: no MUMPS factor)
   bool retry = false;  // the working space was raised: set up again
 };
-MumpsFailure after_failed_factor(KSP ksp) {
+MumpsFailure after_failed_factor(KSP ksp, bool may_raise) {
   MumpsFailure out;
 #ifdef PETSC_HAVE_MUMPS
   Mat F = mumps_factor(ksp);
@@ -238,12 +242,12 @@ MumpsFailure after_failed_factor(KSP ksp) {
   PetscOptionsHasName(nullptr, nullptr, key.c_str(), &given);
   auto& raised = raised_workspace_options();
   const bool own = given && !raised.count(key);
-  if (own || percent >= 1280) {
+  if (own || percent >= kMumpsMostWorkspace || !may_raise) {
     log::info("    MUMPS ran short of working space (INFOG(1) = {}) with ICNTL(14) = {} %{}", out.info, percent,
               own ? " (the deck's own)" : "");
     return out;
   }
-  const PetscInt more = std::min<PetscInt>(1280, std::max<PetscInt>(2 * percent, 40));
+  const PetscInt more = std::min<PetscInt>(kMumpsMostWorkspace, std::max<PetscInt>(2 * percent, 40));
   raised[key] = more;
   PetscOptionsSetValue(nullptr, key.c_str(), std::to_string(more).c_str());
   log::info("    MUMPS ran short of working space (INFOG(1) = {}): ICNTL(14) {} -> {} %, factorizing again", out.info,
@@ -251,6 +255,7 @@ MumpsFailure after_failed_factor(KSP ksp) {
   out.retry = true;
 #else
   (void)ksp;
+  (void)may_raise;
 #endif
   return out;
 }
@@ -269,12 +274,12 @@ std::string failed_factor_words(const MumpsFailure& f) {
 // factor failed. Returns PETSc's error code (0: the solve ran, converged or not).
 PetscErrorCode solve_krylov(KSP ksp, Vec b, Vec x, KSPConvergedReason& reason, MumpsFailure* mumps = nullptr) {
   bool switched = false;
-  for (;;) {
+  for (int raised = 0;; ++raised) {
     const PetscErrorCode code = KSPSolve(ksp, b, x);
     if (code != 0) return code;
     KSPGetConvergedReason(ksp, &reason);
     if (reason == KSP_DIVERGED_PC_FAILED) {
-      const MumpsFailure f = after_failed_factor(ksp);
+      const MumpsFailure f = after_failed_factor(ksp, raised < 2);
       if (mumps) *mumps = f;
       if (f.retry) continue;
       return 0;
@@ -380,14 +385,15 @@ class PetscKsp final : public LinearSolver {
     try {
       copy_matrix(a);
       configure();
-      for (;;) {
+      for (int raised = 0;; ++raised) {
         check(KSPSetUp(ksp_), "the preconditioner's setup");
         PCFailedReason reason = PC_NOERROR;
         PC pc = nullptr;
         KSPGetPC(ksp_, &pc);
         PCGetFailedReason(pc, &reason);
         if (reason == PC_NOERROR) return true;
-        const MumpsFailure mumps = after_failed_factor(ksp_);  // MUMPS: more working space, or a fresh factor next time
+        // MUMPS: more working space, or a fresh factor next time.
+        const MumpsFailure mumps = after_failed_factor(ksp_, raised < 2);
         if (mumps.retry) continue;
         failure_ = fmt::format("the preconditioner's setup failed ({}{})", PCFailedReasons[reason],
                                failed_factor_words(mumps));
