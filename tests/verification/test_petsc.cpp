@@ -154,6 +154,15 @@ TEST(Petsc, AlgebraicMultigridRefusesAnUncondensableMultiplierSystem) {
     EXPECT_NE(std::string(e.what()).find("algebraic multigrid"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("condense_contact"), std::string::npos) << e.what();
   }
+  // Lagrange friction: a sliding node's tangential multiplier row holds its own multiplier and
+  // the normal one, which the condensation cannot eliminate; gamg chosen in the deck stops the
+  // run at its first solve, saying so and what to use. Until session 56 the message went on
+  // with "the model probably lacks supports", the hint for a singular first solve.
+  const test::HertzRun stack = test::run_deck_text(example_deck("plate_stack", "solver: {linear: gamg}\n"), "stack");
+  EXPECT_FALSE(stack.summary.completed);
+  EXPECT_NE(stack.summary.failure.find("cannot solve this contact system"), std::string::npos) << stack.summary.failure;
+  EXPECT_NE(stack.summary.failure.find("linear: mumps or umfpack"), std::string::npos) << stack.summary.failure;
+  EXPECT_EQ(stack.summary.failure.find("lacks supports"), std::string::npos) << stack.summary.failure;
 }
 
 namespace {

@@ -999,8 +999,10 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
     if (dirichlet_diagonal_ > 0)
       for (Index i = 0; i < static_cast<Index>(constrained_.size()); ++i)
         if (constrained_[i]) du(i) = R(i) / dirichlet_diagonal_;
-  } catch (const SolverResourceError&) {
-    throw;  // out of memory: not a sign of missing supports
+  } catch (const FatalModelError&) {
+    // Already diagnosed (out of memory, or a solver unfit for the system: algebraic multigrid
+    // refusing a contact system it cannot condense): not a sign of missing supports.
+    throw;
   } catch (const SolverError& e) {
     // Singular at the very first solve, from the undeformed state: cutting back cannot
     // help, the model is missing supports.
