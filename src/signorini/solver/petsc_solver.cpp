@@ -181,9 +181,10 @@ Mat mumps_factor(KSP ksp) {
   return F;
 }
 
-// The keys of the MUMPS working-space options this process raised (after_failed_factor).
-std::map<std::string, PetscInt>& raised_workspace_options() {
-  static std::map<std::string, PetscInt> raised;
+// The MUMPS working-space options this process set itself (after_failed_factor), as against a
+// deck's own.
+std::set<std::string>& raised_workspace_options() {
+  static std::set<std::string> raised;
   return raised;
 }
 
@@ -194,21 +195,22 @@ bool mumps_short_of_space(PetscInt info) {
          info == -20;
 }
 
-// After `ksp`'s factorization failed. MUMPS allocates its working space from the analysis'
-// estimate plus ICNTL(14) per cent (MUMPS 5.5 users' guide, ICNTL(14)); pivoting on an
-// indefinite matrix (the contact multipliers' saddle point) delays pivots beyond that estimate,
-// and the factorization stops short of space (mumps_short_of_space). Measured: examples/brinell with linear:
-// mumps, one process as on two ranks, stopped at 75 % of its press step, every cutback failing.
-// Such a failure doubles ICNTL(14) (at least 40 %), twice at most per solve (`may_raise`) and
-// to kMumpsMostWorkspace at most, through the options database so that every later factor of
-// this prefix gets it too (a raw -mat_mumps_icntl_14 of the deck's stays: no retry then). The
-// bounds matter: MUMPS allocates that space, for the rest of the run, and a Newton iterate that
-// has run away (a singular tangent) also delays pivots past any margin: on brinell's press
-// with `auto`, one iteration doubled it up to 1280 % before UMFPACK found the matrix singular. Any failed MUMPS factor is dropped (PCReset) so that the
+// After `ksp`'s factorization failed. Any failed MUMPS factor is dropped (PCReset), so that the
 // next setup analyses and factorizes anew: PETSc's MatFactorNumeric_MUMPS returns at once,
-// without factorizing, while INFOG(1) < 0 from the last phase, so a failed factor would
-// otherwise fail every later solve of the pattern (the cutbacks above). INFOG and ICNTL are the
-// same on every rank, so every rank decides alike (collective).
+// without factorizing, while INFOG(1) < 0 from the last phase, so a failed factor would fail
+// every later solve of its pattern. Measured: examples/brinell with linear: mumps (one process
+// as on two ranks) ran short of working space at 75 % of its press step, then every cutback
+// failed and the run gave up.
+// MUMPS allocates its working space from the analysis' estimate plus ICNTL(14) per cent (MUMPS
+// 5.5 users' guide, ICNTL(14)); pivoting on an indefinite matrix (the contact multipliers'
+// saddle point) delays pivots beyond that estimate (mumps_short_of_space). Such a failure
+// doubles ICNTL(14) (at least 40 %), when `may_raise` (twice per solve) and up to
+// kMumpsMostWorkspace, through the options database so that every later factor of this prefix
+// gets it too; a deck's own -mat_mumps_icntl_14 stays (no retry then). The bounds matter:
+// MUMPS allocates that margin for the rest of the run, and a Newton iterate that has run away
+// (a singular tangent) delays pivots past any margin (brinell's press with `auto`: doubled to
+// 1280 % in one iteration before UMFPACK found the matrix singular, without the bounds).
+// INFOG and ICNTL are the same on every rank, so every rank decides alike (collective).
 constexpr PetscInt kMumpsMostWorkspace = 160;  // per cent: 2.6 times the analysis' estimate
 struct MumpsFailure {
   PetscInt info = 0;   // MUMPS's INFOG(1) (0: no MUMPS factor)
@@ -248,7 +250,7 @@ MumpsFailure after_failed_factor(KSP ksp, bool may_raise) {
     return out;
   }
   const PetscInt more = std::min<PetscInt>(kMumpsMostWorkspace, std::max<PetscInt>(2 * percent, 40));
-  raised[key] = more;
+  raised.insert(key);
   PetscOptionsSetValue(nullptr, key.c_str(), std::to_string(more).c_str());
   log::info("    MUMPS ran short of working space (INFOG(1) = {}): ICNTL(14) {} -> {} %, factorizing again", out.info,
             percent, more);
@@ -274,12 +276,12 @@ std::string failed_factor_words(const MumpsFailure& f) {
 // factor failed. Returns PETSc's error code (0: the solve ran, converged or not).
 PetscErrorCode solve_krylov(KSP ksp, Vec b, Vec x, KSPConvergedReason& reason, MumpsFailure* mumps = nullptr) {
   bool switched = false;
-  for (int raised = 0;; ++raised) {
+  for (int attempt = 0;; ++attempt) {
     const PetscErrorCode code = KSPSolve(ksp, b, x);
     if (code != 0) return code;
     KSPGetConvergedReason(ksp, &reason);
     if (reason == KSP_DIVERGED_PC_FAILED) {
-      const MumpsFailure f = after_failed_factor(ksp, raised < 2);
+      const MumpsFailure f = after_failed_factor(ksp, attempt < 2);
       if (mumps) *mumps = f;
       if (f.retry) continue;
       return 0;
@@ -385,7 +387,7 @@ class PetscKsp final : public LinearSolver {
     try {
       copy_matrix(a);
       configure();
-      for (int raised = 0;; ++raised) {
+      for (int attempt = 0;; ++attempt) {
         check(KSPSetUp(ksp_), "the preconditioner's setup");
         PCFailedReason reason = PC_NOERROR;
         PC pc = nullptr;
@@ -393,7 +395,7 @@ class PetscKsp final : public LinearSolver {
         PCGetFailedReason(pc, &reason);
         if (reason == PC_NOERROR) return true;
         // MUMPS: more working space, or a fresh factor next time.
-        const MumpsFailure mumps = after_failed_factor(ksp_, raised < 2);
+        const MumpsFailure mumps = after_failed_factor(ksp_, attempt < 2);
         if (mumps.retry) continue;
         failure_ = fmt::format("the preconditioner's setup failed ({}{})", PCFailedReasons[reason],
                                failed_factor_words(mumps));
