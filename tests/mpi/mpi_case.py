@@ -104,26 +104,33 @@ def fields(folder, ranks):
     return out
 
 
-def tensor_of(name):
-    """The tensor a component field belongs to ("plastic_strain" for "plastic_strain_yz"), or the
-    name itself."""
-    return re.sub(r"_[xyz]{1,2}$", "", name)
+# Fields that measure the same quantity, by their names without a component suffix: a stress
+# and a strain family; any other field is its own.
+QUANTITY = {"stress": "stress", "von_mises": "stress", "back_stress": "stress", "contact_pressure": "stress",
+            "strain": "strain", "plastic_strain": "strain", "equivalent_plastic_strain": "strain"}
+
+
+def quantity_of(name):
+    """The quantity a field measures: its tensor for a component ("plastic_strain" for
+    "plastic_strain_yz"), and one family for the stresses and one for the strains (QUANTITY)."""
+    tensor = re.sub(r"_[xyz]{1,2}$", "", name)
+    return QUANTITY.get(tensor, tensor)
 
 
 def agree(f1, f2, tolerance):
     """Asserts that two runs' fields (fields()) are the same fields and agree to TOLERANCE relative
-    to each field's largest value; returns the largest such difference. A tensor's components
-    (stress_xx, ..., stress_yz) share their tensor's largest component as the scale: a component
-    that is zero up to round-off (the shear plastic strain of a bar in tension, 3e-18 against
-    8.5e-3) is compared with the tensor, not with its own round-off."""
+    to the largest value of the quantity each measures (quantity_of); returns the largest such
+    difference. A field that is zero up to round-off is so compared with its quantity, not with
+    its own round-off: the shear plastic strain of a bar in tension (3e-18 against 8.5e-3), the
+    contact pressure once Brinell's indenter has left (1e-92 against stresses of 490)."""
     assert sorted(f1) == sorted(f2), (sorted(f1), sorted(f2))
     largest = {}
     for name, values in f1.items():
-        tensor = tensor_of(name)
-        largest[tensor] = max(largest.get(tensor, 0.0), max((abs(v) for v in values), default=0.0))
+        quantity = quantity_of(name)
+        largest[quantity] = max(largest.get(quantity, 0.0), max((abs(v) for v in values), default=0.0))
     worst = 0.0
     for name in f1:
-        scale = max(largest[tensor_of(name)], 1e-300)
+        scale = max(largest[quantity_of(name)], 1e-300)
         err = max((abs(a - b) for a, b in zip(f1[name], f2[name])), default=0.0) / scale
         assert len(f1[name]) == len(f2[name]) and err <= tolerance, "field %s: %.2e apart" % (name, err)
         worst = max(worst, err)
