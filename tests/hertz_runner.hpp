@@ -21,6 +21,7 @@ struct HertzRun {
   Vec3 obstacle_displacement = Vec3::Zero();  // of the last rigid obstacle, if any
   Real min_closed_pressure = 0;                // the smallest written pressure of a closed slave node
   std::vector<std::pair<Vec3, Real>> closed;   // each closed slave node: reference position, written pressure
+  Index unknowns = 0;                          // of the linear systems (displacements and multipliers)
 };
 
 // `example`: folder under examples/; the deck's "hc: <value>" is replaced by `hc`.
@@ -38,6 +39,7 @@ inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) 
   Analysis a(m);
   HertzRun out;
   out.summary = a.run();
+  out.unknowns = a.num_unknowns();
   out.checks = evaluate_checks(a);
   for (auto& c : a.contacts())
     if (c->rigid()) out.obstacle_displacement = a.obstacle_displacement(*c);

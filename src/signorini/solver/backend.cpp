@@ -90,7 +90,9 @@ class SerialBackend final : public AlgebraBackend {
                           ", and algebraic multigrid cannot take the contact multipliers' saddle point (use "
                           "enforcement: penalty, or linear: mumps or umfpack)");
       if (!condense_reported_) {
-        log::info("    contact multipliers kept in the linear system (UMFPACK): {}", condensed_.why_not());
+        log::info("    contact multipliers kept in the linear system ({}): {}",
+                  AutoLinearSolver::indefinite_solver(rows(), q.symmetric),
+                  condensed_.why_not());
         condense_reported_ = true;
       }
     }

@@ -241,15 +241,21 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
   throw Error("unknown linear solver '" + name + "'");
 }
 
+std::string AutoLinearSolver::indefinite_solver(Index rows, bool symmetric) {
+  // A symmetric matrix that Cholesky cannot take: LDL^T with pivoting (MUMPS through PETSc, in
+  // one process), whose factor is about Cholesky's size, where LU's is several times it (the
+  // reduced contact system of the fine tet10 Hertz mesh, 118k unknowns: peak memory 8.5 GB
+  // with UMFPACK against 3.2 GB with CHOLMOD). An unsymmetric one: LU, MUMPS's above
+  // kMumpsLuAbove unknowns (its nested dissection fills less), else UMFPACK's.
+  const bool mumps = petsc_available() && launched_ranks() == 1 && (symmetric || rows > kMumpsLuAbove);
+  return mumps ? "mumps" : "umfpack";
+}
+
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
   std::string want = choice_.type;
   const bool spd_wanted = symmetric && spd_skip_ == 0;
   if (spd_skip_ > 0) --spd_skip_;
-  // A symmetric matrix that Cholesky cannot take: LDL^T with pivoting (MUMPS through PETSc, in
-  // one process), whose factor is about Cholesky's size, where LU's is several times it (the
-  // reduced contact system of the fine tet10 Hertz mesh, 118k unknowns: peak memory 8.5 GB
-  // with UMFPACK against 3.2 GB with CHOLMOD). Else, and for unsymmetric ones, LU (UMFPACK).
-  const std::string indefinite = symmetric && petsc_available() && launched_ranks() == 1 ? "mumps" : "umfpack";
+  const std::string indefinite = indefinite_solver(a.rows(), symmetric);
   if (want == "auto")
     want = !spd_wanted ? indefinite : auto_spd_solver(a.rows());
   if (choice_.type == "auto" && want == "gamg" && !announced_) {

@@ -2,8 +2,9 @@
 // (general), Eigen's own LDLT and LU that always build, and Eigen's conjugate gradients with
 // an incomplete Cholesky preconditioner. `auto` picks CHOLMOD for a symmetric matrix (for a
 // symmetric 3D system above `iterative_above` DOFs, where a direct factor would not fit in
-// memory, PETSc's GAMG, or CG with incomplete Cholesky in a build without PETSc) and UMFPACK
-// otherwise, and falls back to MUMPS's LDL^T or UMFPACK when Cholesky or the iterative solver
+// memory, PETSc's GAMG, or CG with incomplete Cholesky in a build without PETSc) and, for an
+// unsymmetric one, MUMPS's LU above AutoLinearSolver::kMumpsLuAbove unknowns with PETSc, else
+// UMFPACK; it falls back to MUMPS's LDL^T or UMFPACK when Cholesky or the iterative solver
 // fails (for the next 1, 2, 4, ... solves, then again). With PETSc (SIGNORINI_WITH_PETSC),
 // `gamg`, `hypre`, `mumps` and `petsc` solve through a KSP (petsc_solver.hpp).
 #pragma once
@@ -126,6 +127,19 @@ class AutoLinearSolver {
   std::string auto_spd_solver(Index rows) const {
     return !iterative(rows) ? "cholmod" : petsc_available() ? "gamg" : "eigen_cg";
   }
+  // The factorization `auto` gives a system Cholesky cannot take (solve): MUMPS, in one
+  // process of a build with PETSc, for a symmetric (indefinite) system (LDL^T) and for an
+  // unsymmetric one above kMumpsLuAbove unknowns (LU); UMFPACK's LU otherwise.
+  static std::string indefinite_solver(Index rows, bool symmetric);
+  // Unsymmetric systems (Lagrange friction's whole contact system, follower pressure) above
+  // this many unknowns go to MUMPS's LU rather than UMFPACK's: MUMPS orders by nested
+  // dissection, UMFPACK by AMD on A + A^T. Measured on this 2-core machine (docs/performance.md,
+  // session 57), the 3D Hertz sphere with Coulomb friction: 4.3k unknowns 0.58 s against MUMPS's
+  // 0.90 s (PETSc's set-up); 15k 6.2 s against 4.0 s; 35k 64 s and 2.7 GB against 24 s and
+  // 0.77 GB; 148k: UMFPACK's first factorization had not ended after 4 minutes at 13.4 GB,
+  // MUMPS solved the 8 Newton iterations in 206 s at 4.1 GB. In 2D the gain is 1.2-1.4x (54k
+  // and 206k unknowns).
+  static constexpr Index kMumpsLuAbove = 10000;
   // `auto` in a build with PETSc, for a symmetric 3D system it would factorize: predicts the
   // Cholesky factor of this pattern and, above direct_factor_limit entries, solves this
   // analysis's systems with GAMG (logged).
