@@ -378,7 +378,7 @@ TEST(LinearSolver, LargeUnsymmetricSystemsGoToMumpsInOneProcess) {
   // `auto` factorizes an unsymmetric system (Lagrange friction's whole contact system) with
   // MUMPS's LU above kMumpsLuAbove unknowns, in one process of a build with PETSc: its nested
   // dissection fills far less than UMFPACK's AMD on 3D meshes (the frictional 3D Hertz sphere
-  // at 35k unknowns: 24 s and 0.77 GB against 64 s and 2.7 GB, docs/performance.md). Smaller
+  // at 35k unknowns: 24 s and 750 MiB against 64 s and 2 631 MiB, docs/performance.md). Smaller
   // systems stay with UMFPACK (no PETSc set-up). The operator: convection-diffusion on a g x g
   // grid (upwinded, so unsymmetric), with g = 70 (4 900 unknowns) and g = 101 (10 201).
   auto system = [](int g) {

@@ -135,9 +135,9 @@ class AutoLinearSolver {
   // this many unknowns go to MUMPS's LU rather than UMFPACK's: MUMPS orders by nested
   // dissection, UMFPACK by AMD on A + A^T. Measured on this 2-core machine (docs/performance.md,
   // session 57), the 3D Hertz sphere with Coulomb friction: 4.3k unknowns 0.58 s against MUMPS's
-  // 0.90 s (PETSc's set-up); 15k 6.2 s against 4.0 s; 35k 64 s and 2.7 GB against 24 s and
-  // 0.77 GB; 148k: UMFPACK's first factorization had not ended after 4 minutes at 13.4 GB,
-  // MUMPS solved the 8 Newton iterations in 206 s at 4.1 GB. In 2D the gain is 1.2-1.4x (54k
+  // 0.90 s (PETSc's set-up); 15k 6.2 s against 4.0 s; 35k 64 s and 2 631 MiB against 24 s and
+  // 750 MiB; 148k: UMFPACK's first factorization had not ended after 4 minutes at 13 438 MiB,
+  // MUMPS solved the 8 Newton iterations in 206 s at 4 134 MiB. In 2D the gain is 1.2-1.4x (54k
   // and 206k unknowns).
   static constexpr Index kMumpsLuAbove = 10000;
   // `auto` in a build with PETSc, for a symmetric 3D system it would factorize: predicts the
