@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Hertz 3D quarter model (examples/hertz_sphere_3d) at increasing size: DOFs, Newton
 # iterations, wall time split into assembly / contact / linear solve, peak memory, and the
-# errors against Hertz. Usage: [LINEAR=gamg] [MPIRUN="mpirun -np 2"] bench/hertz3d_scaling.sh
-# [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear (default: the deck's own, auto);
-# MPIRUN: the launcher the solver runs under (default: none, one process).
+# errors against Hertz. Usage: [LINEAR=gamg] [MPIRUN="mpirun -np 2"] [FRICTION="{law: coulomb,
+# mu: 0.3}"] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear
+# (default: the deck's own, auto); MPIRUN: the launcher the solver runs under (default: none, one
+# process); FRICTION: the pair's friction (default: frictionless; with Lagrange friction the
+# contact system is unsymmetric and solved whole, docs/performance.md, session 57).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -17,6 +19,10 @@ for hc in "${sizes[@]}"; do
   sed -e "s|hc: [0-9.]*|hc: $hc|" -e "s|file: hertz_sphere_3d.geo|file: $here/examples/hertz_sphere_3d/hertz_sphere_3d.geo|" \
     "$here/examples/hertz_sphere_3d/hertz_sphere_3d.yaml" > "$work/deck.yaml"
   if [ -n "${LINEAR:-}" ]; then echo "solver: {linear: $LINEAR}" >> "$work/deck.yaml"; fi
+  if [ -n "${FRICTION:-}" ]; then
+    sed -i "s|^    slave: SphereSurface\$|    slave: SphereSurface\n    friction: $FRICTION|" "$work/deck.yaml"
+    grep -q "friction: " "$work/deck.yaml" || { echo "FRICTION: no slave line to add it under" >&2; exit 1; }
+  fi
   ${MPIRUN:-} "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
