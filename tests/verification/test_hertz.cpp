@@ -242,7 +242,8 @@ TEST(Hertz, RigidMeshedBlockMatchesTheAnalyticPlane) {
 TEST(Hertz, CondensedMultipliersGiveTheSameNewtonSteps) {
   // solver: {condense_contact: true} (default) eliminates the multipliers from the linear
   // solve (CHOLMOD on the displacement system); false solves the whole multiplier system
-  // (LU: UMFPACK, or MUMPS above AutoLinearSolver::kMumpsLuAbove unknowns). The Newton steps are the same, so the iterations and the answers agree.
+  // (LU: UMFPACK, or MUMPS above AutoLinearSolver::kMumpsLuAbove unknowns). The Newton steps
+  // are the same, so the iterations and the answers agree.
   // The third case: the sphere with segment_to_segment, whose rows couple several slave nodes
   // (the refined elimination of coupled rows, docs/contact.md).
   for (const char* example : {"hertz_cylinder", "hertz_sphere_3d", "hertz_sphere_3d+segment_to_segment"}) {
