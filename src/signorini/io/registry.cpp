@@ -182,7 +182,8 @@ void register_linear_solvers(Registry& r) {
   r.add({"linear_solver", "auto",
          "CHOLMOD for symmetric systems, and for symmetric 3D systems above 200000 unknowns (linear: "
          "{iterative_above: ...}) gamg (eigen_cg in a build without PETSc), or whose Cholesky factor would hold more "
-         "than 5e7 entries (linear: {direct_factor_limit: ...}; with PETSc) gamg; UMFPACK otherwise; MUMPS's LDL^T (or "
+         "than 5e7 entries (linear: {direct_factor_limit: ...}; with PETSc) gamg; unsymmetric systems: UMFPACK, with "
+         "PETSc MUMPS's LU above 10000 unknowns (UMFPACK if MUMPS fails); MUMPS's LDL^T (or "
          "UMFPACK) when Cholesky or the iterative solver fails. Under mpirun: gamg for such large symmetric 3D "
          "systems (contact multipliers condensed: one-pass node-to-segment or node-to-node, frictionless), mumps "
          "otherwise.",
