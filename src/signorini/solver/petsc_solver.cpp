@@ -213,8 +213,9 @@ bool mumps_short_of_space(PetscInt info) {
 // INFOG and ICNTL are the same on every rank, so every rank decides alike (collective).
 constexpr PetscInt kMumpsMostWorkspace = 160;  // per cent: 2.6 times the analysis' estimate
 struct MumpsFailure {
-  PetscInt info = 0;   // MUMPS's INFOG(1) (0: no MUMPS factor)
-  bool retry = false;  // the working space was raised: set up again
+  PetscInt info = 0;      // MUMPS's INFOG(1) (0: no MUMPS factor)
+  bool retry = false;     // the working space was raised: set up again
+  bool at_most = false;   // short of working space with ICNTL(14) at kMumpsMostWorkspace already
 };
 MumpsFailure after_failed_factor(KSP ksp, bool may_raise) {
   MumpsFailure out;
@@ -244,6 +245,7 @@ MumpsFailure after_failed_factor(KSP ksp, bool may_raise) {
   PetscOptionsHasName(nullptr, nullptr, key.c_str(), &given);
   auto& raised = raised_workspace_options();
   const bool own = given && !raised.count(key);
+  out.at_most = !own && percent >= kMumpsMostWorkspace;
   if (own || percent >= kMumpsMostWorkspace || !may_raise) {
     log::info("    MUMPS ran short of working space (INFOG(1) = {}) with ICNTL(14) = {} %{}", out.info, percent,
               own ? " (the deck's own)" : "");
@@ -265,6 +267,13 @@ MumpsFailure after_failed_factor(KSP ksp, bool may_raise) {
 // Why a preconditioner failed, for the error message: MUMPS's INFOG(1) when it was MUMPS.
 std::string failed_factor_words(const MumpsFailure& f) {
   if (f.info == 0) return "";
+  // Pivots delayed past 2.6 times the analysis' estimate: most likely an iterate whose matrix is
+  // singular or nearly so (brinell under mpirun with `auto`, at increments that UMFPACK finds
+  // singular in one process), which no working space cures.
+  if (f.at_most)
+    return fmt::format("; MUMPS INFOG(1) = {}, short of working space even at ICNTL(14) = {} %, the most set here: "
+                       "the matrix is most likely singular or nearly so",
+                       f.info, kMumpsMostWorkspace);
   return fmt::format("; MUMPS INFOG(1) = {}{}", f.info,
                      mumps_short_of_space(f.info) ? ", short of working space (-mat_mumps_icntl_14)"
                      : f.info == -13          ? ", out of memory"
