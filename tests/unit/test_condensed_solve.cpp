@@ -160,5 +160,153 @@ TEST(CondensedSolve, RefusesRowsWithNoUnknownToEliminate) {
   EXPECT_FALSE(solver.why_not().empty());
 }
 
+
+// Lagrange friction's multiplier blocks (enforcement.cpp, LagrangeMultipliers::add_friction):
+// per contact node the normal multiplier lambda and the tangential ones lambda_T (dim), after
+// the normal ones. A node's rows (w = 1): the gap, c0 grad^T du = r; the friction,
+// E_u du + E_l dlambda + D_TT dlambda_T = r_T with D_TT = I - A P (plus Q on prescribed
+// directions), A the return map's derivative; its columns: -grad for lambda, D^T for lambda_T.
+// grad = D^T n, D = [I, -N_1 I, -N_2 I] over the slave node's DOFs and two master nodes'.
+enum class Slip { stick, slip, barely, open, frictionless, prescribed };
+
+Saddle make_friction_system(int dim, const std::vector<Slip>& states) {
+  const Index nodes = 12 + static_cast<Index>(states.size()), nu = nodes * dim;
+  const Index nc = static_cast<Index>(states.size());
+  std::vector<Eigen::Triplet<Real, int>> t;
+  for (Index i = 0; i < nu; ++i) {  // a spring chain with ground springs (node blocks coupled)
+    t.emplace_back(i, i, 2.5 + 0.01 * static_cast<Real>(i % 7));
+    if (i + 1 < nu) t.emplace_back(i, i + 1, -1.0), t.emplace_back(i + 1, i, -1.0);
+    if (i + dim < nu) t.emplace_back(i, i + dim, -0.2), t.emplace_back(i + dim, i, -0.2);
+  }
+  const Real c0 = 2.0, ct = 1.5, mu = 0.4;
+  for (Index j = 0; j < nc; ++j) {
+    const Index slave = 12 + j, ml = nu + j;
+    const Index m1 = (2 * j) % 12, m2 = (2 * j + 1) % 12;
+    const Real N1 = 0.3 + 0.05 * static_cast<Real>(j), N2 = 1 - N1;
+    std::vector<Index> dofs;
+    for (Index node : {slave, m1, m2})
+      for (int d = 0; d < dim; ++d) dofs.push_back(node * dim + d);
+    const int m = static_cast<int>(dofs.size());
+    MatX D = MatX::Zero(dim, m);
+    D.leftCols(dim) = MatX::Identity(dim, dim);
+    D.middleCols(dim, dim) = -N1 * MatX::Identity(dim, dim);
+    D.rightCols(dim) = -N2 * MatX::Identity(dim, dim);
+    VecX n = VecX::Zero(dim), e = VecX::Zero(dim);  // an oblique normal, a tangent
+    n(0) = 0.3 + 0.1 * static_cast<Real>(j % 3);
+    n(dim - 1) = 1;
+    n.normalize();
+    e(0) = n(dim - 1), e(dim - 1) = -n(0);
+    auto cross = [](const VecX& a, const VecX& b) -> VecX { return Vec3(a).cross(Vec3(b)); };
+    if (dim == 3) e += 0.5 * cross(n, Vec3(0, 1, 0)), e -= n * n.dot(e), e.normalize();
+    const MatX P = MatX::Identity(dim, dim) - n * n.transpose();
+    const VecX grad = D.transpose() * n;
+    MatX dn = MatX::Zero(dim, m);  // a normal's variation (tangential), for the rows' extra terms
+    for (int c = 0; c < m; ++c) dn.col(c) = 0.05 * std::sin(1.3 * c + static_cast<Real>(j)) * e;
+    std::vector<Index> lt;
+    for (int d = 0; d < dim; ++d) lt.push_back(nu + nc + j * dim + d);
+    const Slip st = states[static_cast<size_t>(j)];
+    auto put = [&](Index row, Index col, Real v) {
+      if (v != 0) t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
+    };
+    if (st == Slip::open) {
+      put(ml, ml, 1.0);
+      for (int d = 0; d < dim; ++d) put(lt[d], lt[d], 1.0);
+      continue;
+    }
+    for (int c = 0; c < m; ++c) {
+      put(ml, dofs[c], c0 * grad(c));
+      put(dofs[c], ml, -grad(c));
+    }
+    if (st == Slip::frictionless) {
+      for (int d = 0; d < dim; ++d) put(lt[d], lt[d], 1.0);
+      continue;
+    }
+    // The return map at q = |q| qhat: stick A = I, b = 0; slip A = F/|q| (I - qhat qhat^T), b = qhat.
+    MatX A = MatX::Identity(dim, dim), Q = MatX::Zero(dim, dim);
+    VecX b = VecX::Zero(dim);
+    if (st == Slip::slip || st == Slip::barely) {
+      const Real ratio = st == Slip::slip ? 0.6 : 1 - 1e-8;  // F / |q|
+      A = ratio * (MatX::Identity(dim, dim) - e * e.transpose());
+      b = e;
+    }
+    if (st == Slip::prescribed) {  // one tangential direction released (3D: across e)
+      VecX f = dim == 3 ? cross(n, e) : e;
+      Q = f * f.transpose();
+    }
+    const MatX keep = MatX::Identity(dim, dim) - Q;
+    const MatX dq = ct * P * D - n * (0.2 * e.transpose() * dn) - 0.1 * dn;
+    const MatX Eu = keep * (-A * dq + (mu * c0) * b * grad.transpose());
+    const VecX El = keep * (-mu * b);
+    const MatX Dtt = keep * (MatX::Identity(dim, dim) - A * P) + Q;
+    for (int d = 0; d < dim; ++d) {
+      for (int c = 0; c < m; ++c) {
+        put(lt[d], dofs[c], Eu(d, c));
+        put(dofs[c], lt[d], D(d, c));
+      }
+      // Stored even where zero, as the assembly's pattern holds them (a sticking node's El).
+      t.emplace_back(static_cast<int>(lt[d]), static_cast<int>(ml), El(d));
+      for (int d2 = 0; d2 < dim; ++d2) t.emplace_back(static_cast<int>(lt[d]), static_cast<int>(lt[d2]), Dtt(d, d2));
+    }
+  }
+  const Index total = nu + nc * (1 + dim);
+  Saddle s;
+  s.J.resize(total, total);
+  s.J.setFromTriplets(t.begin(), t.end());
+  s.is_multiplier.assign(total, 0);
+  for (Index k = nu; k < total; ++k) s.is_multiplier[k] = 1;
+  s.r.resize(total);
+  for (Index k = 0; k < total; ++k) s.r(k) = std::sin(0.7 * static_cast<Real>(k) + 0.3);
+  return s;
+}
+
+TEST(CondensedSolve, FrictionBlocksGiveTheWholeSystemsStep) {
+  // Sticking, slipping, open, frictionless and partly prescribed nodes, alone and mixed, in 2D
+  // and 3D: the condensed step (local elimination of each block's range, block pivots, the
+  // unsymmetric null-space reduction) is the whole system's, exactly (no refinement).
+  using S = Slip;
+  const std::vector<std::vector<Slip>> cases = {
+      {S::stick, S::stick, S::stick},
+      {S::slip, S::slip, S::slip},
+      {S::stick, S::slip, S::open, S::frictionless, S::stick, S::slip},
+      {S::prescribed, S::stick, S::slip, S::prescribed},
+  };
+  for (int dim : {2, 3})
+    for (size_t c = 0; c < cases.size(); ++c) {
+      const Saddle s = make_friction_system(dim, cases[c]);
+      CondensedContactSolver solver(dim == 3);
+      VecX dz;
+      ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << dim << "D case " << c << ": " << solver.why_not();
+      EXPECT_EQ(solver.refinements(), 0) << dim << "D case " << c;
+      EXPECT_LT(error_against_dense(s, dz), 1e-10) << dim << "D case " << c;
+    }
+}
+
+TEST(CondensedSolve, NodesBarelySlippingAreRefinedToTheWholeSystemsStep) {
+  // A node barely past the slip limit (F/|q| = 1 - 1e-8) in 3D: its block's least singular value
+  // is 1e-8 of the largest, raised to kClampedSingular for the elimination, and flexible GMRES
+  // on J brings the step back to the whole system's.
+  const Saddle s = make_friction_system(3, {Slip::stick, Slip::barely, Slip::slip});
+  CondensedContactSolver solver(true);
+  VecX dz;
+  ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
+  EXPECT_GT(solver.refinements(), 0);
+  EXPECT_LT(error_against_dense(s, dz), 1e-9);
+}
+
+TEST(CondensedSolve, FrictionBlocksRefuseANodeWithoutDofsOfItsOwn) {
+  // Two sticking nodes on the same slave node (as a slave node that is also another's master):
+  // no block of DOFs of their own, the whole system is solved instead.
+  Saddle s = make_friction_system(2, {Slip::stick, Slip::stick});
+  // Move the second node's gap row onto the first node's slave DOFs.
+  const Index nu = 14 * 2;
+  for (Index col = 0; col < nu; ++col) s.J.coeffRef(nu + 1, col) = 0;
+  s.J.coeffRef(nu + 1, 24) = 1.0;
+  s.J.coeffRef(nu + 1, 25) = 0.5;
+  CondensedContactSolver solver(false);
+  VecX dz;
+  EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+  EXPECT_NE(solver.why_not().find("of their own"), std::string::npos) << solver.why_not();
+}
+
 }  // namespace
 }  // namespace signorini

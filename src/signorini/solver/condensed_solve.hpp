@@ -62,6 +62,11 @@ class CondensedContactSolver {
   static constexpr Real kInnerTolerance = 1e-2;
 
  private:
+  // Multiplier rows that couple multipliers (Lagrange friction): solve() hands them here.
+  bool solve_blocks(const SparseMatrix& J, const std::vector<char>& is_multiplier, const VecX& r, VecX& dz);
+  // Keeps the reduced pattern, or notes a new one (a new symbolic analysis, and with algebraic
+  // multigrid the reduced unknowns' layout).
+  void follow_pattern(const SparseMatrix& Kr, bool keep_places, const std::vector<Index>& ridx);
   AutoLinearSolver solver_;
   std::shared_ptr<const UnknownLayout> layout_;
   std::string why_not_;
