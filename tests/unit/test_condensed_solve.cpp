@@ -274,6 +274,7 @@ TEST(CondensedSolve, FrictionBlocksGiveTheWholeSystemsStep) {
     for (size_t c = 0; c < cases.size(); ++c) {
       const Saddle s = make_friction_system(dim, cases[c]);
       CondensedContactSolver solver(dim == 3);
+      solver.set_condense_blocks_always(true);
       VecX dz;
       ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << dim << "D case " << c << ": " << solver.why_not();
       EXPECT_EQ(solver.refinements(), 0) << dim << "D case " << c;
@@ -287,6 +288,7 @@ TEST(CondensedSolve, NodesBarelySlippingAreRefinedToTheWholeSystemsStep) {
   // on J brings the step back to the whole system's.
   const Saddle s = make_friction_system(3, {Slip::stick, Slip::barely, Slip::slip});
   CondensedContactSolver solver(true);
+  solver.set_condense_blocks_always(true);
   VecX dz;
   ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
   EXPECT_GT(solver.refinements(), 0);
@@ -303,6 +305,7 @@ TEST(CondensedSolve, FrictionBlocksRefuseANodeWithoutDofsOfItsOwn) {
   s.J.coeffRef(nu + 1, 24) = 1.0;
   s.J.coeffRef(nu + 1, 25) = 0.5;
   CondensedContactSolver solver(false);
+  solver.set_condense_blocks_always(true);
   VecX dz;
   EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
   EXPECT_NE(solver.why_not().find("of their own"), std::string::npos) << solver.why_not();

@@ -72,6 +72,49 @@ TEST(Petsc, GamgOnTheCondensedHertzSphere3DMatchesCholmod) {
               b.summary.total_iterations, max_krylov(b.summary));
 }
 
+TEST(Petsc, GamgTakesLagrangeFrictionCondensed) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // Coulomb friction with multipliers (examples/cattaneo_sphere_3d with enforcement lagrange, a
+  // coarser mesh): a closed node's normal and tangential multipliers are one block whose rows
+  // couple them, condensed by a local elimination and block pivots (condensed_solve.cpp,
+  // solve_blocks), so that GMRES over GAMG takes the reduced unsymmetric system. `auto` on this
+  // small model keeps the multipliers and factorizes the whole system. At rtol 1e-10 the Newton
+  // steps are the same: the same iterations (measured: 39 and 39) and the same answer.
+  const std::vector<std::pair<std::string, std::string>> lagrange = {{"method: penalty}", "method: lagrange}"},
+                                                                     {"hc: 0.01}", "hc: 0.014}"}};
+  const test::HertzRun a = test::run_deck_text(example_deck("cattaneo_sphere_3d", "", lagrange), "friction_whole");
+  const test::HertzRun b = test::run_deck_text(
+      example_deck("cattaneo_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", lagrange), "friction_gamg");
+  ASSERT_TRUE(a.summary.completed && b.summary.completed) << b.summary.failure;
+  EXPECT_EQ(a.summary.increments.back().linear_solver, AutoLinearSolver::indefinite_solver(a.unknowns, false));
+  EXPECT_EQ(b.summary.increments.back().linear_solver, "condensed+gamg");
+  EXPECT_LE(std::abs(b.summary.total_iterations - a.summary.total_iterations), 1);
+  ASSERT_EQ(a.checks.size(), b.checks.size());
+  for (size_t k = 0; k < a.checks.size(); ++k)  // against each other (the coarse mesh misses P's 1 %)
+    EXPECT_NEAR(b.checks[k].computed, a.checks[k].computed, 1e-6 * std::abs(a.checks[k].computed))
+        << a.checks[k].check.name;
+  EXPECT_GT(max_krylov(b.summary), 0);
+  EXPECT_LE(max_krylov(b.summary), 80);
+  std::printf("cattaneo_sphere_3d lagrange: whole %s %d, condensed gamg %d Newton iterations, at most %d GMRES "
+              "iterations per solve\n",
+              a.summary.increments.back().linear_solver.c_str(), a.summary.total_iterations,
+              b.summary.total_iterations, max_krylov(b.summary));
+  // The Hertz quarter sphere with Coulomb friction: at its second Newton iteration the slave
+  // node on the symmetry axis has a stick row parallel to its gap row (the master facet tilted,
+  // both nodes free along the axis only), which the condensation releases (multiplier_blocks.cpp);
+  // the whole system's LU divides by round-off there. Both reach the same answer.
+  const std::vector<std::pair<std::string, std::string>> coulomb = {
+      {"    slave: SphereSurface\n", "    slave: SphereSurface\n    friction: {law: coulomb, mu: 0.3}\n"}};
+  const test::HertzRun c = test::run_deck_text(example_deck("hertz_sphere_3d", "", coulomb), "sphere_friction_whole");
+  const test::HertzRun d = test::run_deck_text(
+      example_deck("hertz_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", coulomb), "sphere_friction_gamg");
+  ASSERT_TRUE(c.summary.completed && d.summary.completed) << d.summary.failure;
+  EXPECT_EQ(d.summary.increments.back().linear_solver, "condensed+gamg");
+  expect_same_checks(c, d, 1e-6, "hertz_sphere_3d coulomb gamg");
+  std::printf("hertz_sphere_3d coulomb lagrange: whole %d, condensed gamg %d Newton iterations\n",
+              c.summary.total_iterations, d.summary.total_iterations);
+}
+
 TEST(Petsc, GamgOnMortarsCoupledRowsMatchesCholmod) {
   if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
   // Mortar's weighted gaps couple the closed rows (condensed_solve.hpp): flexible GMRES on the

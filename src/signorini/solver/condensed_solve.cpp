@@ -9,6 +9,7 @@
 
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
+#include "signorini/solver/multiplier_blocks.hpp"
 
 namespace signorini {
 
@@ -356,191 +357,43 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   return false;
 }
 
-// Multiplier blocks (Lagrange friction: a closed node's normal and tangential multipliers, whose
-// complementarity rows couple them; docs/contact.md). Notation per block of multipliers l (the
-// connected multipliers of one node): its rows C du + M dl = r_l, and its columns B in the
-// displacement rows. With M = U S V^T (singular values), the range of M is eliminated locally
-// (a Schur complement of a block of at most 4 x 4): mu = V1^T dl = S^-1 U1^T (r_l - C du), which
-// adds -B V1 S^-1 U1^T C to the displacement block (inside the constraint's own DOFs) and
-// -B V1 S^-1 U1^T r_l to its rows. What remains are k = dim null(M) closed rows C~ = U0^T C on
-// the displacements alone (the normal gap, and a sticking node's tangential slips) with their
-// multipliers nu = V0^T dl acting through the columns B~ = B V0 (no longer parallel to C~: the
-// friction's bound follows the normal multiplier). Each block's k closed rows eliminate k DOFs
-// of its own together (block pivots, one k x k solve): du = T u~ + z0 with C~ T = 0, and the
-// displacement rows are taken in combinations Z with Z^T B~ = 0, so that
-//   Z^T K~ T u~ = Z^T (r~ - K~ z0)
-// no longer sees the multipliers (the null-space method for a saddle point with B != C^T,
-// Benzi, Golub & Liesen 2005, sec. 6). The pivots' rows then give nu, and mu follows from u.
-// The reduced matrix is unsymmetric. Singular values below kClampedSingular of the block's
-// largest (a node barely slipping across its slip direction) are raised to it: the elimination
-// is then that of a nearby matrix P, and flexible GMRES on J, preconditioned by it, gives J's
-// step, as for coupled rows.
+// Lagrange friction's multiplier blocks (multiplier_blocks.hpp): each block's range eliminated
+// locally, its closed rows by block pivots, Z^T (K + Delta) T u~ = Z^T (r~ - (K + Delta) z0).
 bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vector<char>& is_multiplier, const VecX& r,
                                           VecX& dz) {
-  constexpr Real kNullSingular = 1e-10;     // below this share of the block's largest: null
-  constexpr Real kClampedSingular = 1e-6;   // between the two: raised to this share (P != J)
-  constexpr Real kPivotQuality = 1e-3;      // the least singular value of a pivot block, relative
   const Index n = J.rows();
+  if (!blocks_always_ && !solver_.unsymmetric_iterative(n)) {
+    why_not_ = "friction's multipliers are condensed for algebraic multigrid only (a large 3D model, or linear: gamg)";
+    return false;
+  }
   std::vector<Index> slot(n, -1), mult;
   for (Index m = 0; m < n; ++m)
     if (is_multiplier[m]) slot[m] = static_cast<Index>(mult.size()), mult.push_back(m);
-  const Index nm = static_cast<Index>(mult.size());
-  // The multipliers' rows; entries between multipliers are kept where they are stored zeros
-  // (a sticking node's normal and tangential multipliers are coupled in the pattern only).
-  std::vector<std::vector<std::pair<Index, Real>>> mrow(static_cast<size_t>(nm));
+  // The multipliers' rows and columns with their stored zeros: a sticking node's normal and
+  // tangential multipliers are coupled in the pattern only, and the reduced pattern is to
+  // follow J's pattern and the pivots, not the values.
+  std::vector<std::vector<std::pair<Index, Real>>> rows(mult.size()), cols(mult.size());
   for (Index col = 0; col < J.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(J, col); it; ++it)
-      if (slot[it.row()] >= 0 && (it.value() != 0 || is_multiplier[col])) mrow[slot[it.row()]].emplace_back(col, it.value());
-  // The blocks: multipliers connected through their rows' pattern (union-find on the slots): a
-  // node's normal and tangential multipliers, whose closed rows share the node's DOFs.
-  std::vector<Index> parent(static_cast<size_t>(nm));
-  for (Index i = 0; i < nm; ++i) parent[i] = i;
-  auto find = [&](Index i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (Index i = 0; i < nm; ++i)
-    for (const auto& [k, v] : mrow[i])
-      if (is_multiplier[k]) {
-        const Index a = find(i), b = find(slot[k]);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-      }
-  struct Block {
-    std::vector<Index> l, cu, bu;  // its multipliers; the DOFs of its rows, and of its columns
-    MatX C;                        // rows on the DOFs (s x cu)
-    MatX W;                        // B V1 S^-1 U1^T (bu x s)
-    MatX SU1t, V0, V1, U0t;        // S^-1 U1^T (r x s), V0 (s x k), V1 (s x r), U0^T (k x s)
-    MatX Ct, Bt;                   // closed rows U0^T C (k x cu), columns B V0 (bu x k)
-    std::vector<Index> pivot;      // k DOFs, their places in cu and bu
-    std::vector<int> pc, pb;
-    Eigen::PartialPivLU<MatX> CtP, BtP;
-    MatX BtPm;                     // B~_P (k x k)
-  };
-  std::vector<Index> block_of(static_cast<size_t>(nm), -1);
-  std::vector<Block> blocks;
-  for (Index i = 0; i < nm; ++i) {
-    const Index root = find(i);
-    if (block_of[root] < 0) block_of[root] = static_cast<Index>(blocks.size()), blocks.emplace_back();
-    block_of[i] = block_of[root];
-    blocks[block_of[i]].l.push_back(mult[i]);
+    for (SparseMatrix::InnerIterator it(J, col); it; ++it) {
+      if (slot[it.row()] >= 0) rows[slot[it.row()]].emplace_back(col, it.value());
+      else if (slot[col] >= 0) cols[slot[col]].emplace_back(it.row(), it.value());
+    }
+  const MultiplierBlocks mb = analyse_multiplier_blocks(n, is_multiplier, mult, rows, cols);
+  decltype(rows)().swap(rows);
+  decltype(cols)().swap(cols);
+  if (!mb.why_not.empty()) {
+    why_not_ = mb.why_not;
+    return false;
   }
-  bool approximate = false;  // a clamped singular value somewhere (P != J)
-  std::vector<Eigen::Triplet<Real, int>> dtrip;
-  std::vector<int> count(n, 0), acting(n, 0);  // closed blocks whose rows (columns) hold the DOF
-  auto place = [](const std::vector<Index>& v, Index k) {
-    return static_cast<int>(std::lower_bound(v.begin(), v.end(), k) - v.begin());
-  };
-  for (Block& b : blocks) {
-    const int s = static_cast<int>(b.l.size());
-    for (Index m : b.l) {
-      for (const auto& [k, v] : mrow[slot[m]])
-        if (!is_multiplier[k] && v != 0) b.cu.push_back(k);
-      for (SparseMatrix::InnerIterator it(J, m); it; ++it)
-        if (!is_multiplier[it.row()] && it.value() != 0) b.bu.push_back(it.row());
-    }
-    for (auto* v : {&b.cu, &b.bu}) {
-      std::sort(v->begin(), v->end());
-      v->erase(std::unique(v->begin(), v->end()), v->end());
-    }
-    MatX M = MatX::Zero(s, s), B = MatX::Zero(static_cast<Index>(b.bu.size()), s);
-    b.C = MatX::Zero(s, static_cast<Index>(b.cu.size()));
-    for (int a = 0; a < s; ++a) {
-      for (const auto& [k, v] : mrow[slot[b.l[a]]])
-        if (is_multiplier[k]) M(a, place(b.l, k)) = v;
-        else if (v != 0) b.C(a, place(b.cu, k)) = v;
-      for (SparseMatrix::InnerIterator it(J, b.l[a]); it; ++it)
-        if (!is_multiplier[it.row()] && it.value() != 0) B(place(b.bu, it.row()), a) = it.value();
-    }
-    Eigen::JacobiSVD<MatX> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    VecX sigma = svd.singularValues();
-    const Real smax = s > 0 ? sigma(0) : 0.0;
-    int rank = 0;
-    while (rank < s && sigma(rank) > kNullSingular * smax) ++rank;
-    for (int a = 0; a < rank; ++a)
-      if (sigma(a) < kClampedSingular * smax) sigma(a) = kClampedSingular * smax, approximate = true;
-    const int k = s - rank;
-    b.V1 = svd.matrixV().leftCols(rank);
-    b.V0 = svd.matrixV().rightCols(k);
-    b.U0t = svd.matrixU().rightCols(k).transpose();
-    b.SU1t = sigma.head(rank).cwiseInverse().asDiagonal() * svd.matrixU().leftCols(rank).transpose();
-    b.W = B * b.V1 * b.SU1t;
-    b.Ct = b.U0t * b.C;
-    b.Bt = B * b.V0;
-    if (k > 0 && b.Ct.cwiseAbs().maxCoeff() == 0)
-      throw SolverError("a contact multiplier's row is empty: the system is singular");
-    const MatX delta = -b.W * b.C;
-    for (Index i = 0; i < delta.rows(); ++i)
-      for (Index j = 0; j < delta.cols(); ++j)
-        if (delta(i, j) != 0) dtrip.emplace_back(static_cast<int>(b.bu[i]), static_cast<int>(b.cu[j]), delta(i, j));
-    if (k == 0) continue;
-    for (Index j = 0; j < b.Ct.cols(); ++j)
-      if (b.Ct.col(j).cwiseAbs().maxCoeff() > 0) ++count[b.cu[j]];
-    for (Index i = 0; i < b.Bt.rows(); ++i)
-      if (b.Bt.row(i).cwiseAbs().maxCoeff() > 0) ++acting[b.bu[i]];
-  }
-  // Pivots: per block with closed rows, k DOFs that no other block's closed rows touch and on
-  // whose rows no other block's multipliers act, chosen among those subsets (at most a node's
-  // few DOFs) for the best conditioned C~_P and B~_P.
-  std::vector<Index> pivot_of(n, -1);  // DOF -> its block
-  for (size_t bi = 0; bi < blocks.size(); ++bi) {
-    Block& b = blocks[bi];
-    const int k = static_cast<int>(b.Ct.rows());
-    if (k == 0) continue;
-    std::vector<int> cand;  // places in cu
-    for (int j = 0; j < static_cast<int>(b.cu.size()); ++j) {
-      const Index d = b.cu[j];
-      if (count[d] != 1 || acting[d] != 1 || b.Ct.col(j).cwiseAbs().maxCoeff() == 0) continue;
-      const int pb = place(b.bu, d);
-      if (pb < static_cast<int>(b.bu.size()) && b.bu[pb] == d) cand.push_back(j);
-    }
-    const Real cmax = b.Ct.cwiseAbs().maxCoeff(), bmax = b.Bt.cwiseAbs().maxCoeff();
-    // The k-subsets of the candidates, in lexicographic order.
-    Real best = 0;
-    std::vector<int> pick(static_cast<size_t>(k)), chosen;
-    std::function<void(int, int)> subsets = [&](int from, int depth) {
-      if (depth == k) {
-        MatX cp(k, k), bp(k, k);
-        for (int a = 0; a < k; ++a) {
-          cp.col(a) = b.Ct.col(cand[pick[a]]);
-          bp.row(a) = b.Bt.row(place(b.bu, b.cu[cand[pick[a]]]));
-        }
-        Eigen::JacobiSVD<MatX> sc(cp), sb(bp);
-        const Real q = std::min(sc.singularValues()(k - 1) / cmax, sb.singularValues()(k - 1) / bmax);
-        if (q > best) best = q, chosen.assign(pick.begin(), pick.end());
-        return;
-      }
-      for (int c = from; c < static_cast<int>(cand.size()); ++c) {
-        pick[depth] = c;
-        subsets(c + 1, depth + 1);
-      }
-    };
-    if (static_cast<int>(cand.size()) >= k && cand.size() <= 12) subsets(0, 0);
-    if (best < kPivotQuality) {
-      why_not_ = static_cast<int>(cand.size()) < k
-                     ? "a node's closed constraints have too few DOFs of their own (two-pass, or a slave node that is "
-                       "also a master node)"
-                     : "a node's closed constraints have no well-conditioned block of DOFs of their own";
-      return false;
-    }
-    MatX cp(k, k), bp(k, k);
-    for (int a = 0; a < k; ++a) {
-      const int j = cand[chosen[a]];
-      b.pivot.push_back(b.cu[j]);
-      b.pc.push_back(j);
-      b.pb.push_back(place(b.bu, b.cu[j]));
-      cp.col(a) = b.Ct.col(j);
-      bp.row(a) = b.Bt.row(b.pb.back());
-      pivot_of[b.cu[j]] = static_cast<Index>(bi);
-    }
-    b.CtP.compute(cp);
-    b.BtP.compute(bp);
-    b.BtPm = bp;
-  }
+  const std::vector<Index>& pivot_of = mb.pivot_of;
   SparseMatrix Delta(n, n);
-  Delta.setFromTriplets(dtrip.begin(), dtrip.end());
-  decltype(dtrip)().swap(dtrip);
-  // T and Z: identity on the kept DOFs; a pivot p's rows T_P = -C~_P^-1 C~_K and
-  // Z_P = -B~_P^-T B~_K^T over the block's other DOFs K.
+  {
+    std::vector<Eigen::Triplet<Real, int>> t;
+    t.reserve(mb.delta.size());
+    for (const auto& [ij, v] : mb.delta) t.emplace_back(static_cast<int>(ij.first), static_cast<int>(ij.second), v);
+    Delta.setFromTriplets(t.begin(), t.end());
+  }
+  // T and Z: identity on the kept DOFs, the blocks' pivot rows T_P and Z_P over their other DOFs.
   const bool keep_places = solver_.wants_layout(n);
   std::vector<Index> ridx(n, -1);
   Index nr = 0;
@@ -551,28 +404,23 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
   for (Index k = 0; k < n; ++k)
     if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
   std::vector<std::vector<std::pair<Index, Real>>> left(static_cast<size_t>(n));
-  for (const Block& b : blocks) {
-    const int k = static_cast<int>(b.pivot.size());
-    if (k == 0) continue;
-    const MatX tp = -b.CtP.solve(b.Ct);                // k x cu
-    const MatX zp = -b.BtPm.transpose().partialPivLu().solve(b.Bt.transpose());  // k x bu
-    for (int a = 0; a < k; ++a) {
-      for (Index j = 0; j < tp.cols(); ++j)
-        if (pivot_of[b.cu[j]] < 0 && tp(a, j) != 0)
-          trip.emplace_back(static_cast<int>(b.pivot[a]), static_cast<int>(ridx[b.cu[j]]), tp(a, j));
-      for (Index i = 0; i < zp.cols(); ++i)
-        if (pivot_of[b.bu[i]] < 0 && zp(a, i) != 0) left[b.pivot[a]].emplace_back(ridx[b.bu[i]], zp(a, i));
+  for (const MultiplierBlock& b : mb.blocks)
+    for (int a = 0; a < b.closed(); ++a) {
+      for (size_t j = 0; j < b.cu.size(); ++j)
+        if (pivot_of[b.cu[j]] < 0)
+          trip.emplace_back(static_cast<int>(b.pivot[a]), static_cast<int>(ridx[b.cu[j]]), b.Tp(a, static_cast<Index>(j)));
+      for (size_t i = 0; i < b.bu.size(); ++i)
+        if (pivot_of[b.bu[i]] < 0) left[b.pivot[a]].emplace_back(ridx[b.bu[i]], b.Zp(a, static_cast<Index>(i)));
     }
-  }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
   const SparseMatrix Kr = reduced_product(J, &Delta, T, ridx, pivot_of, left, is_multiplier);
   follow_pattern(Kr, keep_places, ridx);
-  const bool inexact = approximate && solver_.iterative(n);
+  const bool inexact = mb.approximate && solver_.unsymmetric_iterative(n);
   const Real outer = inexact ? std::max(kRefinementTolerance, tolerance_ > 0 ? tolerance_ : rtol_) : kRefinementTolerance;
-  solver_.set_tolerance(approximate ? (inexact ? kInnerTolerance : 0.0) : tolerance_);
-  // K~ v on the displacement rows (v without multipliers).
+  solver_.set_tolerance(mb.approximate ? (inexact ? kInnerTolerance : 0.0) : tolerance_);
+  // (K + Delta) v on the displacement rows (v without multipliers).
   auto times_K = [&](const VecX& v) -> VecX {
     VecX y = J * v + Delta * v;
     for (Index m : mult) y(m) = 0;
@@ -581,23 +429,10 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
   // out = P^-1 rhs through the elimination; the first call factorizes Kr.
   bool factorized = false;
   auto apply = [&](const VecX& rhs, VecX& out) {
-    VecX rt = rhs;  // r~ on the displacement rows
-    for (Index m : mult) rt(m) = 0;
-    VecX z0 = VecX::Zero(n);
-    std::vector<VecX> rl(blocks.size());
-    for (size_t bi = 0; bi < blocks.size(); ++bi) {
-      const Block& b = blocks[bi];
-      VecX& v = rl[bi];
-      v.resize(static_cast<Index>(b.l.size()));
-      for (size_t a = 0; a < b.l.size(); ++a) v(static_cast<Index>(a)) = rhs(b.l[a]);
-      const VecX w = b.W * v;
-      for (size_t i = 0; i < b.bu.size(); ++i) rt(b.bu[i]) -= w(static_cast<Index>(i));
-      if (b.pivot.empty()) continue;
-      const VecX zp = b.CtP.solve(b.U0t * v);
-      for (size_t a = 0; a < b.pivot.size(); ++a) z0(b.pivot[a]) = zp(static_cast<Index>(a));
-    }
+    VecX rt, z0;
+    blocks_reduce_rhs(mb, rhs, rt, z0);
     const VecX y = rt - times_K(z0);
-    VecX rr = VecX::Zero(nr);
+    VecX rr = VecX::Zero(nr);  // Z^T y
     for (Index a = 0; a < n; ++a) {
       if (is_multiplier[a]) continue;
       if (pivot_of[a] >= 0) {
@@ -616,24 +451,14 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     }
     iterations_ += solver_.last_iterations();
     out = T * ur + z0;
-    const VecX Ku = times_K(out);
-    for (size_t bi = 0; bi < blocks.size(); ++bi) {
-      const Block& b = blocks[bi];
-      VecX cu(static_cast<Index>(b.cu.size()));
-      for (size_t j = 0; j < b.cu.size(); ++j) cu(static_cast<Index>(j)) = out(b.cu[j]);
-      VecX dl = b.V1 * (b.SU1t * (rl[bi] - b.C * cu));
-      if (!b.pivot.empty()) {
-        VecX rp(static_cast<Index>(b.pivot.size()));
-        for (size_t a = 0; a < b.pivot.size(); ++a) rp(static_cast<Index>(a)) = rt(b.pivot[a]) - Ku(b.pivot[a]);
-        dl += b.V0 * b.BtP.solve(rp);
-      }
-      for (size_t a = 0; a < b.l.size(); ++a) out(b.l[a]) = dl(static_cast<Index>(a));
-    }
+    blocks_recover_multipliers(mb, rhs, rt, times_K(out), out);
   };
   apply(r, dz);
-  log::debug("    condensed solve (multiplier blocks): {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB",
-             Kr.rows(), Kr.nonZeros(), solver_.last_used(), log::memory_mib());
-  if (!approximate) return true;
+  log::debug("    condensed solve (friction's multiplier blocks{}): {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB",
+             mb.released ? fmt::format(", {} dependent rows released", mb.released) : "", Kr.rows(), Kr.nonZeros(),
+             solver_.last_used(), log::memory_mib());
+  if (!mb.approximate) return true;
+  // A clamped singular value: GMRES on J, right-preconditioned by the elimination.
   const Real rnorm = r.norm();
   const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX { return J * v; }, apply, r, dz,
                                                outer * rnorm, kMaxRefinements);

@@ -15,11 +15,18 @@ namespace signorini {
 
 class CondensedContactSolver {
  public:
-  explicit CondensedContactSolver(bool three_d) : solver_("auto", three_d) {}
+  explicit CondensedContactSolver(bool three_d) : solver_("auto", three_d) { solver_.set_unsymmetric_amg(true); }
   // With algebraic multigrid (gamg, hypre) the eliminated DOFs keep their place in the
   // reduced system as decoupled rows (so that its unknowns stay node-interleaved blocks).
   CondensedContactSolver(const LinearSolverSettings& linear, bool three_d)
-      : solver_(linear, three_d), rtol_(linear.rtol) {}
+      : solver_(linear, three_d), rtol_(linear.rtol) {
+    solver_.set_unsymmetric_amg(true);
+  }
+  // Friction's multiplier blocks (Lagrange friction) are condensed only when the reduced
+  // system goes to algebraic multigrid (AutoLinearSolver::unsymmetric_iterative): with a
+  // factorization the whole system, whose pattern stays while the nodes stick and slip, was
+  // twice as fast (docs/performance.md). `always`: condensed with a factorization too (tests).
+  void set_condense_blocks_always(bool always) { blocks_always_ = always; }
   // The Newton iteration's forcing term (0: the configured rtol). Uncoupled rows: the Krylov
   // inner solver's relative tolerance. Coupled rows: GMRES's, when the inner solver is
   // iterative (kInnerTolerance); with a factorization GMRES goes to kRefinementTolerance.
@@ -79,6 +86,7 @@ class CondensedContactSolver {
   int refinements_ = 0;
   int iterations_ = 0;
   int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
+  bool blocks_always_ = false;
 };
 
 // Flexible GMRES (Saad 2003, "Iterative Methods for Sparse Linear Systems", alg. 9.6) on

@@ -253,11 +253,16 @@ std::string AutoLinearSolver::indefinite_solver(Index rows, bool symmetric) {
 
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
   std::string want = choice_.type;
-  const bool spd_wanted = symmetric && spd_skip_ == 0;
-  if (spd_skip_ > 0) --spd_skip_;
+  const bool skipping = spd_skip_ > 0;  // after a failed Cholesky or Krylov solve: LU
+  const bool spd_wanted = symmetric && !skipping;
+  if (skipping) --spd_skip_;
   const std::string indefinite = indefinite_solver(a.rows(), symmetric);
-  if (want == "auto")
-    want = !spd_wanted ? indefinite : auto_spd_solver(a.rows());
+  if (want == "auto") {
+    // An unsymmetric displacement system (set_unsymmetric_amg) too large to factorize: GMRES
+    // over GAMG, falling back to LU as a symmetric one falls back from Cholesky.
+    if (!symmetric && unsymmetric_amg_ && !skipping && unsymmetric_iterative(a.rows())) want = "gamg";
+    else want = !spd_wanted ? indefinite : auto_spd_solver(a.rows());
+  }
   if (choice_.type == "auto" && want == "gamg" && !announced_) {
     // PETSc is not threaded: in one process its solve runs on one core (measured on the 3D Hertz
     // model at 394k DOFs: as fast as CG with incomplete Cholesky on two threads; under mpirun -np 2

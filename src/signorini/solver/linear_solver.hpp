@@ -122,6 +122,18 @@ class AutoLinearSolver {
     if (choice_.type == "auto") return three_d_ && (rows > choice_.iterative_above || factor_too_large_);
     return choice_.type == "eigen_cg" || choice_.type == "petsc" || is_amg_solver(choice_.type);
   }
+  // Whether an unsymmetric system of `rows` unknowns that algebraic multigrid can take goes to
+  // GMRES over it (set_unsymmetric_amg) rather than to an LU factorization: with `auto`, a 3D
+  // system above iterative_above (or whose Cholesky factor was found too large) in a build
+  // with PETSc; with gamg or hypre, always.
+  bool unsymmetric_iterative(Index rows) const {
+    if (choice_.type == "auto") return petsc_available() && iterative(rows);
+    return is_amg_solver(choice_.type);
+  }
+  // The systems this solver gets are displacement systems that algebraic multigrid can take
+  // even when unsymmetric (the condensed contact system with friction's multipliers); not a
+  // saddle point. Off by default.
+  void set_unsymmetric_amg(bool v) { unsymmetric_amg_ = v; }
   // The solver `auto` gives such a system: CHOLMOD, or when iterative() GAMG (eigen_cg in a
   // build without PETSc).
   std::string auto_spd_solver(Index rows) const {
@@ -191,6 +203,7 @@ class AutoLinearSolver {
   Real tolerance_ = 0;
   bool announced_ = false;  // the first choice of gamg by `auto` is logged
   bool factor_too_large_ = false;  // assess_factor()
+  bool unsymmetric_amg_ = false;   // set_unsymmetric_amg()
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };

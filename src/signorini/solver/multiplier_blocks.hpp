@@ -1,0 +1,75 @@
+// Lagrange friction's multiplier blocks, for the condensed contact solve (condensed_solve.hpp,
+// and the partitioned backend's in petsc_solver.cpp): a closed node's normal and tangential
+// multipliers are one block whose rows couple them. Notation per block of multipliers l: its
+// rows C du + M dl = r_l, its columns B in the displacement rows. With M = U S V^T, the range
+// of M is eliminated locally (a Schur complement of at most 4 x 4):
+//   mu = V1^T dl = S^-1 U1^T (r_l - C du),
+// which adds Delta = -W C, W = B V1 S^-1 U1^T, to the displacement block (inside the
+// constraint's own DOFs, within J's pattern) and -W r_l to the displacement rows. What remains
+// are k = dim null(M) closed rows C~ = U0^T C on the displacements alone (the normal gap, and
+// a sticking node's tangential slips) with their multipliers nu = V0^T dl acting through the
+// columns B~ = B V0 (not parallel to C~: the friction bound follows the normal multiplier).
+// Each block's k closed rows eliminate k DOFs of its own together (block pivots P):
+//   du = T u~ + z0,  T_P = -C~_P^-1 C~_K,  z0_P = C~_P^-1 U0^T r_l,
+// and the displacement rows are combined by Z, Z_P = -B~_P^-T B~_K^T (Z^T B~ = 0), so that
+//   Z^T (K + Delta) T u~ = Z^T (r~ - (K + Delta) z0)
+// no longer sees the multipliers: the null-space method for a saddle point whose constraint
+// rows and multiplier columns differ (Benzi, Golub & Liesen 2005, Acta Numerica, sec. 6). The
+// pivots' rows then give nu = B~_P^-1 (r~_P - ((K + Delta) du)_P), and mu follows from du.
+// Singular values of M below kNullSingular of the block's largest are taken as zero (round-off:
+// a sticking node's D_TT = w n n^T); those below kClampedSingular (a node barely past the slip
+// limit, 1 - F/|q| tiny across its slip) are raised to it, and the elimination is then that
+// of a nearby matrix: `approximate`, for flexible GMRES on J to correct.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "signorini/core/types.hpp"
+
+namespace signorini {
+
+struct MultiplierBlock {
+  std::vector<Index> l, cu, bu;  // its multipliers; the DOFs of its rows, and of its columns (sorted)
+  MatX C;                        // rows on the DOFs (s x cu)
+  MatX W;                        // B V1 S^-1 U1^T (bu x s)
+  MatX SU1t, V0, V1, U0t;        // S^-1 U1^T (r x s), V0 (s x k), V1 (s x r), U0^T (k x s)
+  MatX Ct, Bt;                   // closed rows U0^T C (k x cu), columns B V0 (bu x k)
+  std::vector<Index> pivot;      // its k pivot DOFs
+  MatX Tp, Zp;                   // T's and Z's pivot rows: -C~_P^-1 C~ (k x cu), -B~_P^-T B~^T (k x bu)
+  Eigen::PartialPivLU<MatX> CtP, BtP;  // C~_P and B~_P
+  int closed() const { return static_cast<int>(pivot.size()); }
+};
+
+struct MultiplierBlocks {
+  std::vector<MultiplierBlock> blocks;
+  std::vector<Index> pivot_of;  // per unknown: its block when it is a pivot, else -1
+  // Delta's entries (row, column, value), stored zeros included (the pattern follows J's).
+  std::vector<std::pair<std::pair<Index, Index>, Real>> delta;
+  bool approximate = false;  // a clamped singular value: the elimination is a nearby matrix's
+  int released = 0;          // closed rows released as dependent on their node's DOFs
+  std::string why_not;       // empty when the blocks could be set up
+};
+
+constexpr Real kNullSingular = 1e-10;
+constexpr Real kClampedSingular = 1e-6;
+constexpr Real kPivotQuality = 1e-3;
+constexpr Real kDependentRows = 1e-8;  // a node's closed rows on its own DOFs: singular values below this share are dependent  // the least singular value of C~_P and B~_P, relative to C~'s and B~'s largest entry
+
+// The blocks of the multipliers `mult` (ascending) of a system of n unknowns: rows[i] holds
+// multiplier mult[i]'s row (column, value) with its stored zeros, cols[i] its column's entries
+// in the displacement rows (row, value). Throws SolverError when a multiplier's row is empty.
+MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_multiplier, const std::vector<Index>& mult,
+                                           const std::vector<std::vector<std::pair<Index, Real>>>& rows,
+                                           const std::vector<std::vector<std::pair<Index, Real>>>& cols);
+
+// The elimination's right-hand side pieces of one vector `rhs` (whole, every unknown): r~ on
+// the displacement rows (rhs less each block's W r_l, zero on the multipliers) and z0.
+void blocks_reduce_rhs(const MultiplierBlocks& mb, const VecX& rhs, VecX& rt, VecX& z0);
+// The multipliers of the step `out` (displacements set): nu from the pivots' rows of r~ - Ku
+// (Ku = (K + Delta) du on the displacement rows), mu from du.
+void blocks_recover_multipliers(const MultiplierBlocks& mb, const VecX& rhs, const VecX& rt, const VecX& Ku, VecX& out);
+
+}  // namespace signorini
