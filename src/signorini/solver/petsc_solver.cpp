@@ -20,6 +20,7 @@
 #include "signorini/core/rank_exchange.hpp"
 #include "signorini/solver/backend.hpp"
 #include "signorini/solver/condensed_solve.hpp"
+#include "signorini/solver/multiplier_blocks.hpp"
 
 namespace signorini {
 
@@ -823,7 +824,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
 #pragma omp critical(signorini_petsc_extra)
       for (int a = 0; a < n; ++a)
         for (int b = 0; b < n; ++b)
-          if (dofs[a] >= 0 && dofs[b] >= 0 && (dofs[a] >= nodal_ || dofs[b] >= nodal_) && k(a, b) != 0)
+          // Stored zeros too: a sticking node's normal and tangential multipliers are coupled in
+          // the pattern only (friction's multiplier blocks, solve_condensed_blocks).
+          if (dofs[a] >= 0 && dofs[b] >= 0 && (dofs[a] >= nodal_ || dofs[b] >= nodal_))
             extra_[{dofs[a], dofs[b]}] += k(a, b);
     }
     thread_local std::vector<PetscInt> idx, rows;
@@ -984,12 +987,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     log::Timer timer;
     ensure_assembled();
     const std::vector<char>& mult = *q.is_multiplier;
-    auto cannot = [&](const std::string& why) {
-      return CannotCondense("linear solver " + s_.type + " on " + std::to_string(size_) +
-                                " ranks cannot condense this contact system: " + why +
-                                " (use linear: mumps, or enforcement: penalty)",
-                            why);
-    };
+    auto cannot = [&](const std::string& why) { return cannot_condense(why); };
     // SIGNORINI_REFUSE_CONDENSATION (the MPI test of `auto`'s fallback): every condensation refused.
     if (std::getenv("SIGNORINI_REFUSE_CONDENSATION")) throw cannot("refused (SIGNORINI_REFUSE_CONDENSATION)");
     // The multipliers' rows (a_m) and columns (b_m) and diagonals, from the entries kept.
@@ -999,7 +997,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       if (v == 0) continue;
       const auto [i, j] = ij;
       if (mult[i] && i == j) diag[i] = v;
-      else if (mult[i] && mult[j]) throw cannot("a multiplier row couples two multipliers");
+      else if (mult[i] && mult[j]) return solve_condensed_blocks(q, r, du);  // friction's multiplier blocks
       else if (mult[i]) row_of[i].emplace_back(j, v);
       else if (mult[j]) col_of[j].emplace_back(i, v);
     }
@@ -1008,7 +1006,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     for (Index m = nodal_; m < n_; ++m) {
       if (!mult[m]) continue;
       const bool has_u = row_of.count(m) > 0;
-      if (has_u && diag.count(m)) throw cannot("a closed multiplier row has a diagonal");
+      if (has_u && diag.count(m)) return solve_condensed_blocks(q, r, du);  // a released direction's row
       if (!has_u) {
         if (!diag.count(m)) throw SolverError("a contact multiplier's row is empty: the system is singular");
         open.push_back(m);
@@ -1159,6 +1157,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       if (ksp_) KSPDestroy(&ksp_);
       configured_ = false;
       if (T_) MatDestroy(&T_);
+      if (Z_) MatDestroy(&Z_);
       if (Kr_) MatDestroy(&Kr_);
       check(MatCreateAIJ(PETSC_COMM_WORLD, nloc, nloc, ng, ng, 0, d_nnz.data(), 0, o_nnz.data(), &T_), "MatCreateAIJ");
       check(MatSetBlockSize(T_, bs_), "MatSetBlockSize");
@@ -1189,27 +1188,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_condensed_product();
     const double t_ptap = timer.seconds();
     // The decoupled rows (pivots and multipliers): the mean magnitude of the diagonal.
-    check(MatGetDiagonal(Kr_, x_), "MatGetDiagonal");
-    Real sum = 0;
-    {
-      const PetscScalar* d = nullptr;
-      VecGetArrayRead(x_, &d);
-      for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
-      VecRestoreArrayRead(x_, &d);
-    }
-    sum_over_ranks(&sum, 1);
-    const Index kept = n_ - static_cast<Index>(closed.size() + open.size());  // the unknowns that are not multipliers
-    const Real mean = kept > 0 && sum > 0 ? sum / static_cast<Real>(kept) : 1.0;
-    {
-      PetscScalar* d = nullptr;
-      VecGetArray(x_, &d);
-      for (Index i = rstart_; i < rend_; ++i) {
-        const Index u = i < n_ ? unknown_[i] : -1;
-        d[i - rstart_] = u >= 0 && (mult[u] || pivot_of.count(u)) ? mean : 0.0;
-      }
-      VecRestoreArray(x_, &d);
-    }
-    check(MatDiagonalSet(Kr_, x_, ADD_VALUES), "MatDiagonalSet");
+    add_decoupled_diagonal(mult, [&](Index u) { return pivot_of.count(u) > 0; },
+                           static_cast<Index>(closed.size() + open.size()));
     if (q.body_symmetric != symmetric_ || !ksp_) configured_ = false;
     symmetric_ = q.body_symmetric;
     MatSetOption(Kr_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
@@ -1284,6 +1264,262 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     return "condensed+" + s_.type;
   }
 
+  // Friction's multiplier blocks on the distributed matrix (multiplier_blocks.hpp; in one
+  // process CondensedContactSolver::solve_blocks): every rank analyses the blocks alike from the
+  // multipliers' rows and columns (extra_, whole on each), T's and Z's pivot rows and Delta's
+  // entries follow, Z^T (J + Delta) T is formed by condensed_product (each rank its rows of J)
+  // and goes to GMRES over the deck's algebraic multigrid. Throws CannotCondense where the
+  // blocks have no pivots, or where GMRES on a barely slipping node's nearby matrix stalls.
+  std::string solve_condensed_blocks(const NewtonSolveRequest& q, const VecX& r, VecX& du) {
+    log::Timer timer;
+    const std::vector<char>& mult = *q.is_multiplier;
+    std::vector<Index> mlist;
+    for (Index m = nodal_; m < n_; ++m)
+      if (mult[m]) mlist.push_back(m);
+    auto slot = [&](Index m) { return std::lower_bound(mlist.begin(), mlist.end(), m) - mlist.begin(); };
+    std::vector<std::vector<std::pair<Index, Real>>> mrows(mlist.size()), mcols(mlist.size());
+    for (const auto& [ij, v] : extra_) {
+      const auto [i, j] = ij;
+      if (mult[i]) mrows[slot(i)].emplace_back(j, v);
+      else if (mult[j]) mcols[slot(j)].emplace_back(i, v);
+    }
+    const MultiplierBlocks mb = analyse_multiplier_blocks(n_, mult, mlist, mrows, mcols);
+    decltype(mrows)().swap(mrows);
+    decltype(mcols)().swap(mcols);
+    if (!mb.why_not.empty()) throw cannot_condense(mb.why_not);
+    const std::vector<Index>& pivot_of = mb.pivot_of;
+    // Row i of T (z false) or Z (z true), PETSc's numbering: the identity's, empty with a stored
+    // zero on the diagonal for a multiplier, a pivot's T_P or Z_P row over its block's other DOFs.
+    auto t_row = [&](Index i, bool z, std::vector<std::pair<PetscInt, PetscScalar>>& rt) {
+      rt.clear();
+      const Index u = i < n_ ? unknown_[i] : -1;
+      const bool multiplier = u >= 0 && mult[u], pivot = u >= 0 && !multiplier && pivot_of[u] >= 0;
+      if (multiplier || pivot) rt.emplace_back(static_cast<PetscInt>(i), 0.0);
+      if (!multiplier && !pivot) rt.emplace_back(static_cast<PetscInt>(i), 1.0);
+      if (pivot) {
+        const MultiplierBlock& b = mb.blocks[static_cast<size_t>(pivot_of[u])];
+        const Index a = std::find(b.pivot.begin(), b.pivot.end(), u) - b.pivot.begin();
+        const std::vector<Index>& dofs = z ? b.bu : b.cu;
+        const MatX& P = z ? b.Zp : b.Tp;
+        for (size_t j = 0; j < dofs.size(); ++j)
+          if (pivot_of[dofs[j]] < 0) rt.emplace_back(row(dofs[j]), P(a, static_cast<Index>(j)));
+        std::stable_sort(rt.begin(), rt.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      }
+    };
+    const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
+    std::vector<std::vector<std::pair<PetscInt, PetscScalar>>> rows_T(static_cast<size_t>(nloc)), rows_Z(rows_T.size()),
+        delta(rows_T.size());
+    std::vector<PetscInt> t_d(static_cast<size_t>(nloc), 0), t_o(t_d), z_d(t_d), z_o(t_d);
+    for (Index i = rstart_; i < rend_; ++i) {
+      const size_t l = static_cast<size_t>(i - rstart_);
+      t_row(i, false, rows_T[l]);
+      t_row(i, true, rows_Z[l]);
+      for (const auto& [j, v] : rows_T[l]) (j >= rstart_ && j < rend_ ? t_d : t_o)[l]++;
+      for (const auto& [j, v] : rows_Z[l]) (j >= rstart_ && j < rend_ ? z_d : z_o)[l]++;
+    }
+    for (const auto& [ij, v] : mb.delta) {
+      const PetscInt i = row(ij.first);
+      if (i >= rstart_ && i < rend_) delta[static_cast<size_t>(i - rstart_)].emplace_back(row(ij.second), v);
+    }
+    // The rows of T and Z that are not the identity's, on every rank.
+    TRows special, left;
+    special.at.assign(static_cast<size_t>(padded_), -1);
+    left.at.assign(static_cast<size_t>(padded_), -1);
+    auto add_special = [&](Index u) {
+      const Index i = row(u);
+      if (special.at[i] >= 0) return;
+      special.at[i] = static_cast<int>(special.rows.size());
+      special.rows.emplace_back();
+      t_row(i, false, special.rows.back());
+      left.at[i] = static_cast<int>(left.rows.size());
+      left.rows.emplace_back();
+      t_row(i, true, left.rows.back());
+    };
+    for (Index m : mlist) add_special(m);
+    for (const MultiplierBlock& b : mb.blocks)
+      for (Index p : b.pivot) add_special(p);
+    // The same pattern (T's, Z's and Delta's rows) as at the last solve on every rank: the
+    // product is updated in place and GAMG keeps its interpolation; else all made anew. The
+    // leading -2 tells this pattern from solve_condensed's.
+    std::vector<PetscInt> pattern{-2};
+    for (const auto* rows : {&rows_T, &rows_Z, &delta})
+      for (const auto& rt : *rows) {
+        pattern.push_back(static_cast<PetscInt>(rt.size()));
+        for (const auto& [j, v] : rt) pattern.push_back(j);
+      }
+    int same = T_ && Z_ && Kr_ && pattern == T_pattern_ ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    if (!same) {
+      if (ksp_) KSPDestroy(&ksp_);
+      configured_ = false;
+      for (Mat* m : {&T_, &Z_, &Kr_})
+        if (*m) MatDestroy(m);
+      check(MatCreateAIJ(PETSC_COMM_WORLD, nloc, nloc, ng, ng, 0, t_d.data(), 0, t_o.data(), &T_), "MatCreateAIJ");
+      check(MatCreateAIJ(PETSC_COMM_WORLD, nloc, nloc, ng, ng, 0, z_d.data(), 0, z_o.data(), &Z_), "MatCreateAIJ");
+      check(MatSetBlockSize(T_, bs_), "MatSetBlockSize");
+      check(MatSetBlockSize(Z_, bs_), "MatSetBlockSize");
+      T_pattern_ = std::move(pattern);
+      Mat pre = preallocator();
+      condensed_product(pre, special, &left, &delta);
+      Kr_ = preallocated(pre);
+      MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+    } else {
+      check(MatZeroEntries(Kr_), "MatZeroEntries");
+    }
+    for (Index i = rstart_; i < rend_; ++i) {
+      const PetscInt pi = static_cast<PetscInt>(i);
+      for (const auto& [j, v] : rows_T[static_cast<size_t>(i - rstart_)])
+        check(MatSetValues(T_, 1, &pi, 1, &j, &v, INSERT_VALUES), "MatSetValues (T)");
+      for (const auto& [j, v] : rows_Z[static_cast<size_t>(i - rstart_)])
+        check(MatSetValues(Z_, 1, &pi, 1, &j, &v, INSERT_VALUES), "MatSetValues (Z)");
+    }
+    for (Mat m : {T_, Z_}) {
+      check(MatAssemblyBegin(m, MAT_FINAL_ASSEMBLY), "assembly (T, Z)");
+      check(MatAssemblyEnd(m, MAT_FINAL_ASSEMBLY), "assembly (T, Z)");
+    }
+    const double t_plan = timer.seconds();
+    condensed_product(Kr_, special, &left, &delta);
+    check(MatAssemblyBegin(Kr_, MAT_FINAL_ASSEMBLY), "assembly (Z^T (J + Delta) T)");
+    check(MatAssemblyEnd(Kr_, MAT_FINAL_ASSEMBLY), "assembly (Z^T (J + Delta) T)");
+    const double t_product = timer.seconds();
+    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_blocks_product(mb);
+    add_decoupled_diagonal(mult, [&](Index u) { return pivot_of[u] >= 0; }, static_cast<Index>(mlist.size()) +
+                           static_cast<Index>(std::count_if(pivot_of.begin(), pivot_of.end(), [](Index b) { return b >= 0; })));
+    if (symmetric_ || !ksp_) configured_ = false;
+    symmetric_ = false;
+    MatSetOption(Kr_, MAT_SYMMETRIC, PETSC_FALSE);
+    if (!same) near_nullspace(Kr_);
+    // Delta v on the displacement rows, added into y (whole vectors, every rank alike).
+    auto add_delta = [&](const VecX& v, VecX& y) {
+      for (const auto& [ij, val] : mb.delta) y(ij.first) += val * v(ij.second);
+      for (Index m : mlist) y(m) = 0;
+    };
+    double t_krylov = 0;
+    refinements_ = 0;
+    int inner = 0;
+    Vec w = nullptr, rr = nullptr;
+    check(VecDuplicate(x_, &w), "VecDuplicate");
+    check(VecDuplicate(x_, &rr), "VecDuplicate");
+    // out = P^-1 rhs (P = J but for clamped singular values).
+    auto apply = [&](const VecX& rhs, VecX& out) {
+      VecX rt, z0, y;
+      blocks_reduce_rhs(mb, rhs, rt, z0);
+      set_owned(x_, z0);
+      check(MatMult(A_, x_, w), "MatMult");  // J z0
+      gather(w, y);
+      add_delta(z0, y);
+      y = rt - y;
+      set_owned(b_, y);
+      check(MatMultTranspose(Z_, b_, rr), "MatMultTranspose");  // Z^T (r~ - (J + Delta) z0)
+      const double t0 = timer.seconds();
+      krylov(Kr_, rr, w);  // u~
+      t_krylov += timer.seconds() - t0;
+      inner += iterations_;
+      check(MatMult(T_, w, rr), "MatMult");  // T u~
+      gather(rr, out);
+      out += z0;
+      set_owned(x_, out);
+      check(MatMult(A_, x_, w), "MatMult");
+      VecX Ku;
+      gather(w, Ku);
+      add_delta(out, Ku);
+      blocks_recover_multipliers(mb, rhs, rt, Ku, out);
+    };
+    try {
+      using C = CondensedContactSolver;
+      const Real forcing = q.rtol > 0 ? q.rtol : s_.rtol;
+      if (mb.approximate) tolerance_ = C::kInnerTolerance;
+      apply(r, du);
+      if (mb.approximate) {
+        const Real rnorm = r.norm(), outer = std::max(C::kRefinementTolerance, forcing);
+        const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX {
+          VecX yv;
+          multiply(v, yv);
+          return yv;
+        }, apply, r, du, outer * rnorm, C::kMaxRefinements);
+        refinements_ = g.steps;
+        if (!(g.residual <= std::max(C::kRefinementAccepted, 2 * outer) * rnorm))
+          throw cannot_condense(fmt::format("a node barely slipping: GMRES on the condensed preconditioner stalls at "
+                                            "{:.1e} of the right-hand side after {} steps",
+                                            g.residual / rnorm, g.steps));
+      }
+    } catch (...) {
+      VecDestroy(&w);
+      VecDestroy(&rr);
+      iterations_ = inner;
+      throw;
+    }
+    VecDestroy(&w);
+    VecDestroy(&rr);
+    iterations_ = inner;
+    log::debug("    condensed friction blocks on {} ranks: {} blocks{}; T and Z {:.2f} s, Z^T (J + Delta) T {:.2f} s ({}), "
+               "Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
+               size_, mb.blocks.size(), mb.released ? fmt::format(", {} dependent rows released", mb.released) : "",
+               t_plan, t_product - t_plan, same ? "updated in place" : "new pattern", t_krylov, inner,
+               refinements_ ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
+    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
+    return "condensed+" + s_.type;
+  }
+  // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): Z^T (J + Delta) T applied to a vector, as
+  // formed by condensed_product, against Z^T, J, Delta and T applied in turn.
+  void check_blocks_product(const MultiplierBlocks& mb) {
+    VecX v(n_), tv, y;
+    for (Index i = 0; i < n_; ++i) v(i) = std::sin(0.37 * static_cast<Real>(i) + 0.1);
+    Vec w = nullptr;
+    check(VecDuplicate(x_, &w), "VecDuplicate");
+    set_owned(x_, v);
+    check(MatMult(Kr_, x_, w), "MatMult");
+    VecX direct;
+    gather(w, direct);
+    check(MatMult(T_, x_, w), "MatMult");
+    gather(w, tv);
+    set_owned(x_, tv);
+    check(MatMult(A_, x_, w), "MatMult");
+    gather(w, y);
+    for (const auto& [ij, val] : mb.delta) y(ij.first) += val * tv(ij.second);
+    set_owned(x_, y);
+    check(MatMultTranspose(Z_, x_, w), "MatMultTranspose");
+    VecX steps;
+    gather(w, steps);
+    VecDestroy(&w);
+    const Real diff = (direct - steps).norm(), norm = steps.norm();
+    log::info("condensed product Z^T (J + Delta) T against its factors: relative difference {:.1e}", norm > 0 ? diff / norm : diff);
+    if (!(diff <= 1e-12 * norm))
+      throw FatalModelError(fmt::format("Z^T (J + Delta) T differs from its factors' product by {:.3e} (relative)",
+                                        norm > 0 ? diff / norm : diff));
+  }
+  // The decoupled rows of the reduced matrix (multipliers, and pivots for which `pivot` holds):
+  // the mean magnitude of the other rows' diagonal. `removed`: how many unknowns they are.
+  void add_decoupled_diagonal(const std::vector<char>& mult, const std::function<bool(Index)>& pivot, Index removed) {
+    check(MatGetDiagonal(Kr_, x_), "MatGetDiagonal");
+    Real sum = 0;
+    {
+      const PetscScalar* d = nullptr;
+      VecGetArrayRead(x_, &d);
+      for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
+      VecRestoreArrayRead(x_, &d);
+    }
+    sum_over_ranks(&sum, 1);
+    const Index kept = n_ - removed;
+    const Real mean = kept > 0 && sum > 0 ? sum / static_cast<Real>(kept) : 1.0;
+    {
+      PetscScalar* d = nullptr;
+      VecGetArray(x_, &d);
+      for (Index i = rstart_; i < rend_; ++i) {
+        const Index u = i < n_ ? unknown_[i] : -1;
+        d[i - rstart_] = u >= 0 && (mult[u] || pivot(u)) ? mean : 0.0;
+      }
+      VecRestoreArray(x_, &d);
+    }
+    check(MatDiagonalSet(Kr_, x_, ADD_VALUES), "MatDiagonalSet");
+  }
+  CannotCondense cannot_condense(const std::string& why) const {
+    return CannotCondense("linear solver " + s_.type + " on " + std::to_string(size_) +
+                              " ranks cannot condense this contact system: " + why +
+                              " (use linear: mumps, or enforcement: penalty)",
+                          why);
+  }
+
   // A MATPREALLOCATOR of this rank's rows (entries added to it in any rows make the pattern),
   // and the AIJ matrix preallocated from it, zeros on its pattern (not yet assembled).
   Mat preallocator() const {
@@ -1323,7 +1559,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   // and kept its symbolic data for the update in place: about twice the product's own size
   // (94 MB against 48 MB per rank on the 148k-DOF Hertz model), and 4-9 s per new pattern
   // on the 1.4M one.
-  void condensed_product(Mat target, const TRows& special) {
+  // With friction's multiplier blocks (solve_condensed_blocks) the product is Z^T (J + Delta) T:
+  // `left` holds Z's rows other than the identity's, `delta` Delta's entries in this rank's rows
+  // (indexed from rstart_).
+  void condensed_product(Mat target, const TRows& special, const TRows* left = nullptr,
+                         const std::vector<std::vector<std::pair<PetscInt, PetscScalar>>>* delta = nullptr) {
     std::vector<std::pair<PetscInt, PetscScalar>> y;
     std::vector<PetscInt> cols_out;
     std::vector<PetscScalar> vals_out;
@@ -1348,6 +1588,14 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         }
       }
       check(MatRestoreRow(A_, i, &nc, &cols, &vals), "MatRestoreRow");
+      if (delta)
+        for (const auto& [k, v] : (*delta)[static_cast<size_t>(i - rstart_)]) {
+          plain = false;
+          const int sk = special.at[static_cast<size_t>(k)];
+          if (sk < 0) y.emplace_back(k, v);
+          else
+            for (const auto& [b, t] : special.rows[static_cast<size_t>(sk)]) y.emplace_back(b, v * t);
+        }
       if (!plain) {  // by column, one entry per column
         std::sort(y.begin(), y.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
         size_t w = 0;
@@ -1367,9 +1615,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         check(MatSetValues(target, 1, &a, static_cast<PetscInt>(y.size()), cols_out.data(), vals_out.data(), ADD_VALUES),
               "MatSetValues (T^T J T)");
       };
-      if (si < 0) add_row(i, 1.0);
+      const TRows& l = left ? *left : special;
+      const int li = left ? l.at[static_cast<size_t>(i)] : si;
+      if (li < 0) add_row(i, 1.0);
       else
-        for (const auto& [a, t] : special.rows[static_cast<size_t>(si)]) add_row(a, t);
+        for (const auto& [a, t] : l.rows[static_cast<size_t>(li)]) add_row(a, t);
     }
   }
   // SIGNORINI_CHECK_CONDENSED_PRODUCT: T^T J T against PETSc's MatPtAP (the MPI tests).
@@ -1511,6 +1761,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void destroy() {
     if (A_) MatDestroy(&A_);
     if (T_) MatDestroy(&T_);
+    if (Z_) MatDestroy(&Z_);
     if (Kr_) MatDestroy(&Kr_);
     T_pattern_.clear();
     last_pivot_.clear();
@@ -1806,6 +2057,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   std::map<Index, std::set<Index>> pivot_columns_;  // pivot DOF -> the other DOFs of its T row, so far
   std::vector<PetscInt> T_pattern_;          // T's pattern, this rank's rows (count, columns)
   Mat A_ = nullptr, T_ = nullptr, Kr_ = nullptr;  // J; the condensation's T and T^T J T
+  Mat Z_ = nullptr;  // friction's multiplier blocks: the left factor, Z^T (J + Delta) T
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
   Vec f_ = nullptr;  // sum_cell_forces(): the owned rows
   VecScatter gather_ = nullptr;
