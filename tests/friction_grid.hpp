@@ -24,6 +24,7 @@ struct GridCase {
   Real unit = 1;                 // 1: mm, N, MPa; 1e-3: m, N, Pa (the same mesh, scaled)
   std::string discretization = "node_to_segment";
   bool stick_predictor = true;   // friction.stick_predictor (penalty and augmented Lagrangian)
+  std::string linear;            // solver.linear (empty: the default, auto)
 };
 
 inline std::string grid_name(const GridCase& c) {
@@ -31,6 +32,7 @@ inline std::string grid_name(const GridCase& c) {
                               c.discretization == "node_to_segment" ? "" : c.discretization + "_", c.method, c.mu,
                               c.ratio, c.hc, c.unit == 1 ? "" : "_SI");
   if (!c.stick_predictor) s += "_no_stick_predictor";
+  if (!c.linear.empty()) s += "_" + c.linear;
   for (char& ch : s)
     if (ch == '.') ch = 'p';
   return s;
@@ -75,12 +77,13 @@ checks:
   - {{name: a, quantity: contact_half_width, pair: cm, at: [0, 0], component: x, expected: 1, tolerance: 1e30}}
   - {{name: P, quantity: contact_force, pair: cm, component: y, expected: 1, tolerance: 1e30}}
   - {{name: Q, quantity: contact_force, pair: cm, component: x, expected: 1, tolerance: 1e30}}
-)",
+{solver})",
                      fmt::arg("name", grid_name(c)), fmt::arg("geo", geo.string()), fmt::arg("hc", c.hc),
                      fmt::arg("L", L), fmt::arg("E", 210000 * S), fmt::arg("method", c.method), fmt::arg("mu", c.mu),
                      fmt::arg("dy", -d * L), fmt::arg("q", q * S),
                      fmt::arg("discretization", c.discretization),
-                     fmt::arg("predictor", c.stick_predictor ? "" : ", stick_predictor: false"));
+                     fmt::arg("predictor", c.stick_predictor ? "" : ", stick_predictor: false"),
+                     fmt::arg("solver", c.linear.empty() ? "" : "solver: {linear: " + c.linear + "}\n"));
 }
 
 struct GridResult {
