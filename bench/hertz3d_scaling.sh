@@ -5,7 +5,8 @@
 # mu: 0.3}"] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear
 # (default: the deck's own, auto); MPIRUN: the launcher the solver runs under (default: none, one
 # process); FRICTION: the pair's friction (default: frictionless; with Lagrange friction the
-# contact system is unsymmetric and solved whole, docs/performance.md, session 57).
+# contact system is unsymmetric: factorized whole by auto below iterative_above, condensed node
+# by node for GMRES over GAMG with LINEAR=gamg or above it, docs/performance.md, sessions 57-58).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -27,7 +28,7 @@ for hc in "${sizes[@]}"; do
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
   errs=$(grep -o '"error": [^,]*' "$s" | sed 's/.*: //' | head -2 | tr '\n' ' ')
-  solver=$(grep -o '"linear_solver": "[^"]*"' "$s" | tail -1 | sed 's/.*: //; s/"//g')
+  solver=$(grep -o '"linear_solver": "[^"]*"' "$s" | tail -1 | sed 's/.*: //; s/"//g' || true)
   printf "%-7s %8s %6s %9.2f %9.2f %9.2f %9.2f %9.0f %8.4f %8.4f  %s\n" "$hc" "$(get dofs)" "$(get total_iterations)" \
     "$(get total_s)" "$(get assembly_s)" "$(get contact_s)" "$(get linear_solve_s)" "$(get peak_memory_mib)" $errs "$solver"
 done

@@ -259,8 +259,9 @@ Analysis::Analysis(Model& model)
 // condensed: the distributed backend does it, each closed constraint eliminating a slave DOF
 // of its own (node-to-segment, node-to-node) or, for coupled rows (mortar,
 // segment-to-segment, two passes), the DOF where it dominates, with flexible GMRES on the
-// whole system (condensed_solve.hpp's method). Where that fails, `auto` takes the whole
-// system to MUMPS; gamg or hypre chosen in the deck stop the run, as in one process.
+// whole system (condensed_solve.hpp's method); Lagrange friction's multipliers node by node
+// (multiplier_blocks.hpp). Where that fails, `auto` takes the whole system to MUMPS; gamg or
+// hypre chosen in the deck stop the run, as in one process.
 void Analysis::choose_algebra() {
   const int ranks = parallel_ranks();
   if (ranks <= 1) return;
@@ -270,12 +271,15 @@ void Analysis::choose_algebra() {
     // (MUMPS: LDL^T when symmetric, else LU; any saddle point of multipliers) otherwise. With
     // algebraic multigrid the contact multipliers are condensed, and a system the condensation
     // cannot take goes whole to MUMPS (direct_fallback), as one process's `auto` takes UMFPACK.
+    // Lagrange friction on symmetric bodies: its multipliers condensed node by node (friction's
+    // multiplier blocks), the unsymmetric reduced system to GMRES over GAMG, as in one process.
     bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
-    amg = amg && symmetric_solves();
+    const bool symmetric = symmetric_solves(), blocks = !symmetric && has_multipliers_ && body_symmetric_;
+    amg = amg && (symmetric || blocks);
     model_.linear_solver.type = amg ? "gamg" : "mumps";
     model_.linear_solver.direct_fallback = amg;
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
-              amg ? ", symmetric, 3D" : "");
+              amg ? (symmetric ? ", symmetric, 3D" : ", 3D, friction's multipliers condensed") : "");
   }
   const std::string& linear = model_.linear_solver.type;
   if (!is_petsc_solver(linear)) {

@@ -138,6 +138,20 @@ void CondensedContactSolver::follow_pattern(const SparseMatrix& Kr, bool keep_pl
   }
 }
 
+// Kr u = rr: the first call (factorized false) factorizes Kr, the next ones reuse it.
+VecX CondensedContactSolver::inner_solve(const SparseMatrix& Kr, bool symmetric, const VecX& rr, bool& factorized) {
+  VecX ur;
+  if (!factorized) {
+    solver_.solve(Kr, symmetric, rr, ur);
+    factorized = true;
+  } else if (!solver_.solve_again(rr, ur)) {
+    throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve: " +
+                      solver_.failure());
+  }
+  iterations_ += solver_.last_iterations();
+  return ur;
+}
+
 bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char>& is_multiplier, bool symmetric,
                                    const VecX& r, VecX& dz) {
   // Notation: a multiplier row m of J is either closed, a_m . du = r_m over displacement
@@ -319,16 +333,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     for (Index m : open) z0(m) = rhs(m) / J.coeff(m, m);
     for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
     const VecX rr = T.transpose() * (rhs - times_P(z0));
-    VecX ur;
-    if (!factorized) {
-      solver_.solve(Kr, symmetric, rr, ur);
-      factorized = true;
-    } else if (!solver_.solve_again(rr, ur)) {
-      throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve: " +
-                        solver_.failure());
-    }
-    iterations_ += solver_.last_iterations();
-    out = T * ur + z0;
+    out = T * inner_solve(Kr, symmetric, rr, factorized) + z0;
     // Closed multipliers from their pivots' rows (out holds 0 for them so far).
     const VecX Aout = times_P(out);
     for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Aout(pivot[c])) / bp[c];
@@ -441,16 +446,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
         rr(ridx[a]) += y(a);
       }
     }
-    VecX ur;
-    if (!factorized) {
-      solver_.solve(Kr, false, rr, ur);
-      factorized = true;
-    } else if (!solver_.solve_again(rr, ur)) {
-      throw SolverError("linear solver " + solver_.last_used() + " failed in the refinement of a condensed solve: " +
-                        solver_.failure());
-    }
-    iterations_ += solver_.last_iterations();
-    out = T * ur + z0;
+    out = T * inner_solve(Kr, false, rr, factorized) + z0;
     blocks_recover_multipliers(mb, rhs, rt, times_K(out), out);
   };
   apply(r, dz);

@@ -74,6 +74,7 @@ class CondensedContactSolver {
   // Keeps the reduced pattern, or notes a new one (a new symbolic analysis, and with algebraic
   // multigrid the reduced unknowns' layout).
   void follow_pattern(const SparseMatrix& Kr, bool keep_places, const std::vector<Index>& ridx);
+  VecX inner_solve(const SparseMatrix& Kr, bool symmetric, const VecX& rr, bool& factorized);
   AutoLinearSolver solver_;
   std::shared_ptr<const UnknownLayout> layout_;
   std::string why_not_;

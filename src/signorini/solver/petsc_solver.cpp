@@ -1226,36 +1226,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       gather(w, Jout);
       for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Jout(pivot[c])) / bp[c];
     };
-    try {
-      // Coupled rows: loose inner solves, and flexible GMRES on J to the Newton iteration's
-      // forcing term (condensed_solve's constants, so that one process and several take the
-      // same steps).
-      using C = CondensedContactSolver;
-      const Real forcing = q.rtol > 0 ? q.rtol : s_.rtol;
-      if (coupled) tolerance_ = C::kInnerTolerance;
-      apply(r, du);
-      if (coupled) {
-        const Real rnorm = r.norm(), outer = std::max(C::kRefinementTolerance, forcing);
-        const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX {
-          VecX y;
-          multiply(v, y);
-          return y;
-        }, apply, r, du, outer * rnorm, C::kMaxRefinements);
-        refinements_ = g.steps;
-        if (!(g.residual <= std::max(C::kRefinementAccepted, 2 * outer) * rnorm))
-          throw cannot(fmt::format("coupled contact rows (segment_to_segment, mortar): GMRES on the condensed "
-                                   "preconditioner stalls at {:.1e} of the right-hand side after {} steps",
-                                   g.residual / rnorm, g.steps));
-      }
-    } catch (...) {
-      VecDestroy(&w);
-      VecDestroy(&rr);
-      iterations_ = inner;
-      throw;
-    }
-    VecDestroy(&w);
-    VecDestroy(&rr);
-    iterations_ = inner;
+    // Coupled rows: loose inner solves, and flexible GMRES on J to the Newton iteration's
+    // forcing term (condensed_solve's constants, so that one process and several take the same
+    // steps).
+    refine_condensed(q, coupled, apply, r, du, "coupled contact rows (segment_to_segment, mortar)", w, rr, inner);
     log::debug("    condensed on {} ranks: {} closed, {} open{}; T {:.2f} s, T^T J T {:.2f} s ({}{}), diagonal {:.2f} s, Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
                size_, closed.size(), open.size(), coupled ? " (coupled rows)" : "", t_plan, t_ptap - t_plan,
                same ? "updated in place" : "new pattern", same ? "" : fmt::format(", its pattern {:.2f} s", t_symbolic), t_rhs - t_ptap, t_krylov, inner,
@@ -1425,23 +1399,38 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       add_delta(out, Ku);
       blocks_recover_multipliers(mb, rhs, rt, Ku, out);
     };
+    refine_condensed(q, mb.approximate, apply, r, du, "a node barely slipping", w, rr, inner);
+    log::debug("    condensed friction blocks on {} ranks: {} blocks{}; T and Z {:.2f} s, Z^T (J + Delta) T {:.2f} s ({}), "
+               "Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
+               size_, mb.blocks.size(), mb.released ? fmt::format(", {} dependent rows released", mb.released) : "",
+               t_plan, t_product - t_plan, same ? "updated in place" : "new pattern", t_krylov, inner,
+               refinements_ ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
+    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
+    return "condensed+" + s_.type;
+  }
+  // apply(r, du) and, when `refine`, flexible GMRES on J right-preconditioned by `apply` (its
+  // inner Krylov solves loose) to the Newton iteration's forcing term; throws CannotCondense
+  // naming `what` when GMRES stalls. The work vectors w and rr are released either way, and
+  // iterations_ set to `inner`, the inner solves' Krylov iterations.
+  void refine_condensed(const NewtonSolveRequest& q, bool refine, const std::function<void(const VecX&, VecX&)>& apply,
+                        const VecX& r, VecX& du, const std::string& what, Vec& w, Vec& rr, const int& inner) {
     try {
       using C = CondensedContactSolver;
       const Real forcing = q.rtol > 0 ? q.rtol : s_.rtol;
-      if (mb.approximate) tolerance_ = C::kInnerTolerance;
+      if (refine) tolerance_ = C::kInnerTolerance;
       apply(r, du);
-      if (mb.approximate) {
+      if (refine) {
         const Real rnorm = r.norm(), outer = std::max(C::kRefinementTolerance, forcing);
         const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX {
-          VecX yv;
-          multiply(v, yv);
-          return yv;
+          VecX y;
+          multiply(v, y);
+          return y;
         }, apply, r, du, outer * rnorm, C::kMaxRefinements);
         refinements_ = g.steps;
         if (!(g.residual <= std::max(C::kRefinementAccepted, 2 * outer) * rnorm))
-          throw cannot_condense(fmt::format("a node barely slipping: GMRES on the condensed preconditioner stalls at "
-                                            "{:.1e} of the right-hand side after {} steps",
-                                            g.residual / rnorm, g.steps));
+          throw cannot_condense(fmt::format("{}: GMRES on the condensed preconditioner stalls at {:.1e} of the "
+                                            "right-hand side after {} steps",
+                                            what, g.residual / rnorm, g.steps));
       }
     } catch (...) {
       VecDestroy(&w);
@@ -1452,13 +1441,6 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     VecDestroy(&w);
     VecDestroy(&rr);
     iterations_ = inner;
-    log::debug("    condensed friction blocks on {} ranks: {} blocks{}; T and Z {:.2f} s, Z^T (J + Delta) T {:.2f} s ({}), "
-               "Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
-               size_, mb.blocks.size(), mb.released ? fmt::format(", {} dependent rows released", mb.released) : "",
-               t_plan, t_product - t_plan, same ? "updated in place" : "new pattern", t_krylov, inner,
-               refinements_ ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
-    if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
-    return "condensed+" + s_.type;
   }
   // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): Z^T (J + Delta) T applied to a vector, as
   // formed by condensed_product, against Z^T, J, Delta and T applied in turn.
