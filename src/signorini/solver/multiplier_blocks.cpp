@@ -76,7 +76,7 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
     b.W = B * b.V1 * b.SU1t;
     b.Ct = b.U0t * b.C;
     b.Bt = B * b.V0;
-    if (k > 0 && !(b.Ct.cwiseAbs().maxCoeff() > 0))
+    if (k > 0 && (b.Ct.size() == 0 || !(b.Ct.cwiseAbs().maxCoeff() > 0)))
       throw SolverError("a contact multiplier's row is empty: the system is singular");
     if (rank > 0) {
       const MatX delta = -b.W * b.C;
