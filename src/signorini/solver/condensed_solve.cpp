@@ -367,7 +367,12 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
 bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vector<char>& is_multiplier, const VecX& r,
                                           VecX& dz) {
   const Index n = J.rows();
-  if (!blocks_always_ && !solver_.unsymmetric_iterative(n)) {
+  Index nm = 0;
+  for (Index m = 0; m < n; ++m) nm += is_multiplier[m] ? 1 : 0;
+  // The reduced system's size with the pivots kept in place (algebraic multigrid), which the
+  // solver's choice reads.
+  const Index reduced = n - nm;
+  if (!blocks_always_ && !solver_.unsymmetric_iterative(reduced)) {
     why_not_ = "friction's multipliers are condensed for algebraic multigrid only (a large 3D model, or linear: gamg)";
     return false;
   }
@@ -399,7 +404,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     Delta.setFromTriplets(t.begin(), t.end());
   }
   // T and Z: identity on the kept DOFs, the blocks' pivot rows T_P and Z_P over their other DOFs.
-  const bool keep_places = solver_.wants_layout(n);
+  const bool keep_places = solver_.wants_layout(reduced);
   std::vector<Index> ridx(n, -1);
   Index nr = 0;
   for (Index k = 0; k < n; ++k)
@@ -422,7 +427,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
   decltype(trip)().swap(trip);
   const SparseMatrix Kr = reduced_product(J, &Delta, T, ridx, pivot_of, left, is_multiplier);
   follow_pattern(Kr, keep_places, ridx);
-  const bool inexact = mb.approximate && solver_.unsymmetric_iterative(n);
+  const bool inexact = mb.approximate && solver_.unsymmetric_iterative(reduced);
   const Real outer = inexact ? std::max(kRefinementTolerance, tolerance_ > 0 ? tolerance_ : rtol_) : kRefinementTolerance;
   solver_.set_tolerance(mb.approximate ? (inexact ? kInnerTolerance : 0.0) : tolerance_);
   // (K + Delta) v on the displacement rows (v without multipliers).

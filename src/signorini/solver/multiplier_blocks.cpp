@@ -101,8 +101,9 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
     for (int j = 0; j < static_cast<int>(b.cu.size()); ++j) {
       const Index d = b.cu[j];
       if (count[d] != 1 || acting[d] != 1 || !(b.Ct.col(j).cwiseAbs().maxCoeff() > 0)) continue;
-      const int pb = place(b.bu, d);
-      if (pb < static_cast<int>(b.bu.size()) && b.bu[pb] == d) cand.push_back(j);
+      const int pb = place(b.bu, d);  // this block's multipliers must act on the DOF's row
+      if (pb < static_cast<int>(b.bu.size()) && b.bu[pb] == d && b.Bt.row(pb).cwiseAbs().maxCoeff() > 0)
+        cand.push_back(j);
     }
     if (cand.empty()) {
       mb.why_not = "a node's closed constraints have no DOF of their own (two-pass, or a slave node that is also a "
@@ -136,6 +137,17 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
     }
     if (k == 0) continue;
     const Real cmax = b.Ct.cwiseAbs().maxCoeff(), bmax = b.Bt.cwiseAbs().maxCoeff();
+    // The candidates ranked by their column of C~ and row of B~ (the slave node's DOFs first,
+    // as a rule: their coefficients are 1 where a master node's are its shape function), the
+    // best kPivotCandidates kept: a node alone on a quad8 master facet has 27 (C(27, 3) subsets).
+    if (static_cast<int>(cand.size()) > kPivotCandidates) {
+      std::vector<std::pair<Real, int>> scored;
+      for (int j : cand)
+        scored.emplace_back(std::min(b.Ct.col(j).norm() / cmax, b.Bt.row(place(b.bu, b.cu[j])).norm() / bmax), j);
+      std::stable_sort(scored.begin(), scored.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+      cand.clear();
+      for (int c = 0; c < kPivotCandidates; ++c) cand.push_back(scored[static_cast<size_t>(c)].second);
+    }
     Real best = 0;
     std::vector<int> pick(static_cast<size_t>(k)), chosen;
     std::function<void(int, int)> subsets = [&](int from, int depth) {
@@ -155,7 +167,7 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
         subsets(c + 1, depth + 1);
       }
     };
-    if (static_cast<int>(cand.size()) >= k && cand.size() <= 12) subsets(0, 0);
+    if (static_cast<int>(cand.size()) >= k) subsets(0, 0);
     if (best < kPivotQuality) {
       mb.why_not = static_cast<int>(cand.size()) < k
                        ? "a node's closed constraints have too few DOFs of their own (two-pass, or a slave node that "

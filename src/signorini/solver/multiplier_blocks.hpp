@@ -9,13 +9,18 @@
 // are k = dim null(M) closed rows C~ = U0^T C on the displacements alone (the normal gap, and
 // a sticking node's tangential slips) with their multipliers nu = V0^T dl acting through the
 // columns B~ = B V0 (not parallel to C~: the friction bound follows the normal multiplier).
-// Each block's k closed rows eliminate k DOFs of its own together (block pivots P):
+// Each block's k closed rows eliminate k DOFs together (block pivots P) among those no other
+// block's closed rows touch and on whose rows only its multipliers act (its slave node's, as a
+// rule; a master node's that no other closed node touches can serve too):
 //   du = T u~ + z0,  T_P = -C~_P^-1 C~_K,  z0_P = C~_P^-1 U0^T r_l,
 // and the displacement rows are combined by Z, Z_P = -B~_P^-T B~_K^T (Z^T B~ = 0), so that
 //   Z^T (K + Delta) T u~ = Z^T (r~ - (K + Delta) z0)
 // no longer sees the multipliers: the null-space method for a saddle point whose constraint
 // rows and multiplier columns differ (Benzi, Golub & Liesen 2005, Acta Numerica, sec. 6). The
 // pivots' rows then give nu = B~_P^-1 (r~_P - ((K + Delta) du)_P), and mu follows from du.
+// A block whose closed rows or multiplier columns are dependent (the whole system singular but for
+// round-off) has the dependent combinations released: no equation, a zero multiplier step, and no
+// GMRES correction (J has no step to correct towards there).
 // Singular values of M below kNullSingular of the block's largest are taken as zero (round-off:
 // a sticking node's D_TT = w n n^T); those below kClampedSingular (a node barely past the slip
 // limit, 1 - F/|q| tiny across its slip) are raised to it, and the elimination is then that
@@ -55,8 +60,14 @@ struct MultiplierBlocks {
 
 constexpr Real kNullSingular = 1e-10;
 constexpr Real kClampedSingular = 1e-6;
+// A pivot block is taken when the least singular values of C~_P and B~_P are at least this share
+// of C~'s and B~'s largest entries.
 constexpr Real kPivotQuality = 1e-3;
-constexpr Real kDependentRows = 1e-8;  // a node's closed rows on its own DOFs: singular values below this share are dependent  // the least singular value of C~_P and B~_P, relative to C~'s and B~'s largest entry
+// A block's closed rows (or its multipliers' columns) whose singular values fall below this
+// share of the largest are dependent: released.
+constexpr Real kDependentRows = 1e-8;
+// The pivot blocks are sought among this many of a block's candidate DOFs (the best ranked).
+constexpr int kPivotCandidates = 8;
 
 // The blocks of the multipliers `mult` (ascending) of a system of n unknowns: rows[i] holds
 // multiplier mult[i]'s row (column, value) with its stored zeros, cols[i] its column's entries

@@ -1449,20 +1449,24 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     for (Index i = 0; i < n_; ++i) v(i) = std::sin(0.37 * static_cast<Real>(i) + 0.1);
     Vec w = nullptr;
     check(VecDuplicate(x_, &w), "VecDuplicate");
-    set_owned(x_, v);
-    check(MatMult(Kr_, x_, w), "MatMult");
-    VecX direct;
-    gather(w, direct);
-    check(MatMult(T_, x_, w), "MatMult");
-    gather(w, tv);
-    set_owned(x_, tv);
-    check(MatMult(A_, x_, w), "MatMult");
-    gather(w, y);
-    for (const auto& [ij, val] : mb.delta) y(ij.first) += val * tv(ij.second);
-    set_owned(x_, y);
-    check(MatMultTranspose(Z_, x_, w), "MatMultTranspose");
-    VecX steps;
-    gather(w, steps);
+    VecX direct, steps;
+    try {
+      set_owned(x_, v);
+      check(MatMult(Kr_, x_, w), "MatMult");
+      gather(w, direct);
+      check(MatMult(T_, x_, w), "MatMult");
+      gather(w, tv);
+      set_owned(x_, tv);
+      check(MatMult(A_, x_, w), "MatMult");
+      gather(w, y);
+      for (const auto& [ij, val] : mb.delta) y(ij.first) += val * tv(ij.second);
+      set_owned(x_, y);
+      check(MatMultTranspose(Z_, x_, w), "MatMultTranspose");
+      gather(w, steps);
+    } catch (...) {
+      VecDestroy(&w);
+      throw;
+    }
     VecDestroy(&w);
     const Real diff = (direct - steps).norm(), norm = steps.norm();
     log::info("condensed product Z^T (J + Delta) T against its factors: relative difference {:.1e}", norm > 0 ? diff / norm : diff);
