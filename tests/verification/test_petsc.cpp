@@ -77,12 +77,14 @@ TEST(Petsc, GamgTakesLagrangeFrictionCondensed) {
   // Coulomb friction with multipliers (examples/cattaneo_sphere_3d with enforcement lagrange, a
   // coarser mesh): a closed node's normal and tangential multipliers are one block whose rows
   // couple them, condensed by a local elimination and block pivots (condensed_solve.cpp,
-  // solve_blocks), so that GMRES over GAMG takes the reduced unsymmetric system. `auto` on this
-  // small model keeps the multipliers and factorizes the whole system. At rtol 1e-10 the Newton
-  // steps are the same: the same iterations (measured: 39 and 39) and the same answer.
+  // solve_blocks), so that GMRES over GAMG takes the reduced unsymmetric system; `auto` does so
+  // too in 3D (session 58). Against the whole system factorized (condense_contact: false), at
+  // rtol 1e-10 the Newton steps are the same: the same iterations (measured: 39 and 39) and the
+  // same answer.
   const std::vector<std::pair<std::string, std::string>> lagrange = {{"method: penalty}", "method: lagrange}"},
                                                                      {"hc: 0.01}", "hc: 0.014}"}};
-  const test::HertzRun a = test::run_deck_text(example_deck("cattaneo_sphere_3d", "", lagrange), "friction_whole");
+  const test::HertzRun a = test::run_deck_text(
+      example_deck("cattaneo_sphere_3d", "solver: {condense_contact: false}\n", lagrange), "friction_whole");
   const test::HertzRun b = test::run_deck_text(
       example_deck("cattaneo_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", lagrange), "friction_gamg");
   ASSERT_TRUE(a.summary.completed && b.summary.completed) << b.summary.failure;
@@ -105,14 +107,21 @@ TEST(Petsc, GamgTakesLagrangeFrictionCondensed) {
   // the whole system's LU divides by round-off there. Both reach the same answer.
   const std::vector<std::pair<std::string, std::string>> coulomb = {
       {"    slave: SphereSurface\n", "    slave: SphereSurface\n    friction: {law: coulomb, mu: 0.3}\n"}};
-  const test::HertzRun c = test::run_deck_text(example_deck("hertz_sphere_3d", "", coulomb), "sphere_friction_whole");
+  const test::HertzRun c = test::run_deck_text(
+      example_deck("hertz_sphere_3d", "solver: {condense_contact: false}\n", coulomb), "sphere_friction_whole");
   const test::HertzRun d = test::run_deck_text(
       example_deck("hertz_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", coulomb), "sphere_friction_gamg");
   ASSERT_TRUE(c.summary.completed && d.summary.completed) << d.summary.failure;
   EXPECT_EQ(d.summary.increments.back().linear_solver, "condensed+gamg");
   expect_same_checks(c, d, 1e-6, "hertz_sphere_3d coulomb gamg");
-  std::printf("hertz_sphere_3d coulomb lagrange: whole %d, condensed gamg %d Newton iterations\n",
-              c.summary.total_iterations, d.summary.total_iterations);
+  // `auto` (the deck's default) takes the same path in 3D, whatever the size, to the same answer
+  // at its own tolerance.
+  const test::HertzRun e = test::run_deck_text(example_deck("hertz_sphere_3d", "", coulomb), "sphere_friction_auto");
+  ASSERT_TRUE(e.summary.completed) << e.summary.failure;
+  EXPECT_EQ(e.summary.increments.back().linear_solver, "condensed+gamg");
+  expect_same_checks(c, e, 1e-6, "hertz_sphere_3d coulomb auto");
+  std::printf("hertz_sphere_3d coulomb lagrange: whole %d, condensed gamg %d, auto %d Newton iterations\n",
+              c.summary.total_iterations, d.summary.total_iterations, e.summary.total_iterations);
 }
 
 TEST(Petsc, GamgOnMortarsCoupledRowsMatchesCholmod) {

@@ -59,7 +59,8 @@ class SerialBackend final : public AlgebraBackend {
     linear_.assess_factor(system_.matrix());
     condensed_.set_factor_too_large(linear_.factor_too_large());
   }
-  bool wants_layout() const override { return linear_.wants_layout(rows()); }
+  // In 3D with `auto` and PETSc, Lagrange friction's condensed system may go to GAMG at any size.
+  bool wants_layout() const override { return linear_.wants_layout(rows()) || condensed_.wants_layout_for_blocks(); }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
     linear_.set_layout(layout);
     condensed_.set_layout(layout);

@@ -175,6 +175,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   why_not_.clear();
   refinements_ = 0;
   iterations_ = 0;
+  solver_.set_unsymmetric_amg_any_size(false);  // solve_blocks sets it for friction's blocks
   // The multiplier rows of J, gathered from its columns in column order (J is column-major;
   // a transpose of the whole matrix would take as much memory again as J).
   std::vector<Index> slot(n, -1);
@@ -367,6 +368,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
 bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vector<char>& is_multiplier, const VecX& r,
                                           VecX& dz) {
   const Index n = J.rows();
+  solver_.set_unsymmetric_amg_any_size(true);
   Index nm = 0;
   for (Index m = 0; m < n; ++m) nm += is_multiplier[m] ? 1 : 0;
   // The reduced system's size with the pivots kept in place (algebraic multigrid), which the

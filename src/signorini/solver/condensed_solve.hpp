@@ -23,10 +23,14 @@ class CondensedContactSolver {
     solver_.set_unsymmetric_amg(true);
   }
   // Friction's multiplier blocks (Lagrange friction) are condensed only when the reduced
-  // system goes to algebraic multigrid (AutoLinearSolver::unsymmetric_iterative): with a
-  // factorization the whole system, whose pattern stays while the nodes stick and slip, was
-  // twice as fast (docs/performance.md). `always`: condensed with a factorization too (tests).
+  // system goes to algebraic multigrid (AutoLinearSolver::unsymmetric_iterative: in 3D with
+  // `auto` and PETSc at any size, in 2D above iterative_above): with a factorization the whole
+  // system, whose pattern stays while the nodes stick and slip, was twice as fast in 2D
+  // (docs/performance.md). `always`: condensed with a factorization too (tests).
   void set_condense_blocks_always(bool always) { blocks_always_ = always; }
+  // Whether friction's blocks may go to algebraic multigrid in this 3D model whatever its size
+  // (`auto` with PETSc): the caller then provides the unknowns' layout.
+  bool wants_layout_for_blocks() const { return solver_.unsymmetric_amg_in_3d(); }
   // The Newton iteration's forcing term (0: the configured rtol). Uncoupled rows: the Krylov
   // inner solver's relative tolerance. Coupled rows: GMRES's, when the inner solver is
   // iterative (kInnerTolerance); with a factorization GMRES goes to kRefinementTolerance.

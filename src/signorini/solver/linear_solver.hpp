@@ -127,9 +127,16 @@ class AutoLinearSolver {
   // system above iterative_above (or whose Cholesky factor was found too large) in a build
   // with PETSc; with gamg or hypre, always.
   bool unsymmetric_iterative(Index rows) const {
-    if (choice_.type == "auto") return petsc_available() && iterative(rows);
+    if (choice_.type == "auto") return petsc_available() && (iterative(rows) || (three_d_ && any_size_3d_));
     return is_amg_solver(choice_.type);
   }
+  // With `auto` in a build with PETSc, 3D: the unsymmetric systems of set_unsymmetric_amg go to
+  // GMRES over GAMG at any size (Lagrange friction's condensed system, whose whole system a
+  // factorization fills badly in 3D: docs/performance.md, session 58). Set per solve.
+  void set_unsymmetric_amg_any_size(bool v) { any_size_3d_ = v; }
+  // Whether `auto` would send such systems of a 3D model to GAMG at any size (its caller then
+  // wants the unknowns' layout for the rigid-body modes).
+  bool unsymmetric_amg_in_3d() const { return choice_.type == "auto" && three_d_ && petsc_available(); }
   // The systems this solver gets are displacement systems that algebraic multigrid can take
   // even when unsymmetric (the condensed contact system with friction's multipliers); not a
   // saddle point. Off by default.
@@ -184,7 +191,8 @@ class AutoLinearSolver {
   void set_tolerance(Real rtol) { tolerance_ = rtol; }
   // Whether the solver of a system of `rows` unknowns wants their layout (algebraic multigrid).
   bool wants_layout(Index rows) const {
-    return is_petsc_solver(choice_.type) || (choice_.type == "auto" && auto_spd_solver(rows) == "gamg");
+    return is_petsc_solver(choice_.type) || (choice_.type == "auto" && auto_spd_solver(rows) == "gamg") ||
+           (unsymmetric_amg_ && any_size_3d_ && unsymmetric_amg_in_3d());
   }
   const std::string& choice() const { return choice_.type; }
   // Forget the factorization and its symbolic analysis (after a change of sparse pattern).
@@ -204,6 +212,7 @@ class AutoLinearSolver {
   bool announced_ = false;  // the first choice of gamg by `auto` is logged
   bool factor_too_large_ = false;  // assess_factor()
   bool unsymmetric_amg_ = false;   // set_unsymmetric_amg()
+  bool any_size_3d_ = false;       // set_unsymmetric_amg_any_size()
   std::unique_ptr<LinearSolver> solver_;
   std::string last_name_ = "none";
 };
