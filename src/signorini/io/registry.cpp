@@ -184,8 +184,8 @@ void register_linear_solvers(Registry& r) {
          "{iterative_above: ...}) gamg (eigen_cg in a build without PETSc), or whose Cholesky factor would hold more "
          "than 5e7 entries (linear: {direct_factor_limit: ...}; with PETSc) gamg; unsymmetric systems: UMFPACK, with "
          "PETSc MUMPS's LU above 10000 unknowns (UMFPACK if MUMPS fails); MUMPS's LDL^T (or "
-         "UMFPACK) when Cholesky or the iterative solver fails. Lagrange friction on a 3D model above "
-         "iterative_above (with PETSc): its multipliers condensed node by node, GMRES over gamg. Under mpirun: gamg "
+         "UMFPACK) when Cholesky or the iterative solver fails. Lagrange friction on a 3D model (with PETSc; in 2D "
+         "above iterative_above): its multipliers condensed node by node, GMRES over gamg. Under mpirun: gamg "
          "for such large 3D systems (contact multipliers condensed, Lagrange friction's too; the whole system to "
          "mumps where they cannot be), mumps otherwise.",
          {}});
