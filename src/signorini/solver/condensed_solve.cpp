@@ -369,18 +369,17 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                                           VecX& dz) {
   const Index n = J.rows();
   solver_.set_unsymmetric_amg_any_size(true);
-  Index nm = 0;
-  for (Index m = 0; m < n; ++m) nm += is_multiplier[m] ? 1 : 0;
-  // The reduced system's size with the pivots kept in place (algebraic multigrid), which the
-  // solver's choice reads.
-  const Index reduced = n - nm;
-  if (!blocks_always_ && !solver_.unsymmetric_iterative(reduced)) {
-    why_not_ = "friction's multipliers are condensed for algebraic multigrid only (a large 3D model, or linear: gamg)";
-    return false;
-  }
   std::vector<Index> slot(n, -1), mult;
   for (Index m = 0; m < n; ++m)
     if (is_multiplier[m]) slot[m] = static_cast<Index>(mult.size()), mult.push_back(m);
+  // The reduced system's size with the pivots kept in place (algebraic multigrid), which the
+  // solver's choice reads.
+  const Index reduced = n - static_cast<Index>(mult.size());
+  if (!blocks_always_ && !solver_.unsymmetric_iterative(reduced)) {
+    why_not_ = "friction's multipliers are condensed for algebraic multigrid only (3D with PETSc, 2D above "
+               "iterative_above, or linear: gamg)";
+    return false;
+  }
   // The multipliers' rows and columns with their stored zeros: a sticking node's normal and
   // tangential multipliers are coupled in the pattern only, and the reduced pattern is to
   // follow J's pattern and the pivots, not the values.
