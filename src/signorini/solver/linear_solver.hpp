@@ -123,9 +123,9 @@ class AutoLinearSolver {
     return choice_.type == "eigen_cg" || choice_.type == "petsc" || is_amg_solver(choice_.type);
   }
   // Whether an unsymmetric system of `rows` unknowns that algebraic multigrid can take goes to
-  // GMRES over it (set_unsymmetric_amg) rather than to an LU factorization: with `auto`, a 3D
-  // system above iterative_above (or whose Cholesky factor was found too large) in a build
-  // with PETSc; with gamg or hypre, always.
+  // GMRES over it (set_unsymmetric_amg) rather than to an LU factorization: with `auto`, in a
+  // build with PETSc, a 3D system above iterative_above (or whose Cholesky factor was found too
+  // large), or any 3D system while set_unsymmetric_amg_any_size holds; with gamg or hypre, always.
   bool unsymmetric_iterative(Index rows) const {
     if (choice_.type == "auto") return petsc_available() && (iterative(rows) || (three_d_ && any_size_3d_));
     return is_amg_solver(choice_.type);
