@@ -124,6 +124,42 @@ TEST(Petsc, GamgTakesLagrangeFrictionCondensed) {
               c.summary.total_iterations, d.summary.total_iterations, e.summary.total_iterations);
 }
 
+TEST(Petsc, AutoTakesPenaltyFrictionToGmresOverGamgAndFallsBackToLu) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // Friction by the penalty (examples/cattaneo_sphere_3d as shipped, a coarser mesh): the
+  // tangent is unsymmetric and has no multipliers, a displacement system that algebraic
+  // multigrid takes; `auto` sends it in 3D to GMRES over GAMG at any size (backend.cpp; until
+  // session 59 MUMPS's or UMFPACK's LU: on the example's own mesh, 11.8k unknowns, 127 s of
+  // UMFPACK's solves against 4.3 s). Against UMFPACK: the same answer to 1e-6, in at most a few
+  // more Newton iterations (inexact Newton). Where GMRES fails (here made to by PETSc's option
+  // -ksp_max_it 2), `auto` falls back to LU for that solve and the next 1, 2, 4, ... and reaches
+  // the same answer.
+  const std::vector<std::pair<std::string, std::string>> coarse = {{"hc: 0.01}", "hc: 0.014}"}};
+  const test::HertzRun a = test::run_deck_text(example_deck("cattaneo_sphere_3d", "solver: {linear: umfpack}\n", coarse),
+                                               "penalty_friction_umfpack");
+  const test::HertzRun b = test::run_deck_text(example_deck("cattaneo_sphere_3d", "", coarse), "penalty_friction_auto");
+  const test::HertzRun c = test::run_deck_text(
+      example_deck("cattaneo_sphere_3d", "solver: {linear: {type: auto, options: \"-ksp_max_it 2\"}}\n", coarse),
+      "penalty_friction_auto_fallback");
+  ASSERT_TRUE(a.summary.completed && b.summary.completed && c.summary.completed)
+      << b.summary.failure << c.summary.failure;
+  EXPECT_EQ(b.summary.increments.back().linear_solver, "gamg");
+  EXPECT_GT(max_krylov(b.summary), 0);
+  EXPECT_LE(b.summary.total_iterations, a.summary.total_iterations + 4) << "inexact Newton: a few more at most";
+  auto same_values = [&](const test::HertzRun& x, const std::string& what) {  // the coarse mesh misses P's 1 %
+    ASSERT_EQ(a.checks.size(), x.checks.size());
+    for (size_t k = 0; k < a.checks.size(); ++k)
+      EXPECT_NEAR(x.checks[k].computed, a.checks[k].computed, 1e-6 * std::abs(a.checks[k].computed))
+          << what << ": " << a.checks[k].check.name;
+  };
+  same_values(b, "auto");
+  for (const IncrementRecord& r : c.summary.increments)  // GMRES fails every time: each solve ends in LU
+    EXPECT_EQ(r.linear_solver, AutoLinearSolver::indefinite_solver(a.unknowns, false));
+  same_values(c, "auto, GMRES failing");
+  std::printf("cattaneo_sphere_3d penalty: umfpack %d, auto (gamg) %d, auto with GMRES failing %d Newton iterations\n",
+              a.summary.total_iterations, b.summary.total_iterations, c.summary.total_iterations);
+}
+
 TEST(Petsc, GamgOnMortarsCoupledRowsMatchesCholmod) {
   if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
   // Mortar's weighted gaps couple the closed rows (condensed_solve.hpp): flexible GMRES on the

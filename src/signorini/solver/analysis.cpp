@@ -273,13 +273,19 @@ void Analysis::choose_algebra() {
     // cannot take goes whole to MUMPS (direct_fallback), as one process's `auto` takes UMFPACK.
     // Lagrange friction on symmetric bodies: its multipliers condensed node by node (friction's
     // multiplier blocks), the unsymmetric reduced system to GMRES over GAMG, as in one process.
+    // An unsymmetric system without multipliers (penalty or augmented Lagrangian friction,
+    // follower pressure): GMRES over GAMG, the whole system to MUMPS where GMRES fails.
     bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
     const bool symmetric = symmetric_solves(), blocks = !symmetric && has_multipliers_ && body_symmetric_;
-    amg = amg && (symmetric || blocks);
+    const bool displacements = !symmetric && !has_multipliers_;
+    amg = amg && (symmetric || blocks || displacements);
     model_.linear_solver.type = amg ? "gamg" : "mumps";
     model_.linear_solver.direct_fallback = amg;
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
-              amg ? (symmetric ? ", symmetric, 3D" : ", 3D, friction's multipliers condensed") : "");
+              !amg ? ""
+              : symmetric ? ", symmetric, 3D"
+              : blocks    ? ", 3D, friction's multipliers condensed"
+                          : ", 3D, unsymmetric: GMRES, MUMPS where it fails");
   }
   const std::string& linear = model_.linear_solver.type;
   if (!is_petsc_solver(linear)) {

@@ -268,9 +268,12 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
     // model at 394k DOFs: as fast as CG with incomplete Cholesky on two threads; under mpirun -np 2
     // twice as fast, docs/performance.md).
     announced_ = true;
-    log::info("    linear solver auto: {} unknowns (above iterative_above, {}): gamg, on one core in one process "
-              "(mpirun -np N shares it out)",
-              a.rows(), choice_.iterative_above);
+    const std::string why = a.rows() > choice_.iterative_above
+                                ? fmt::format("above iterative_above, {}", choice_.iterative_above)
+                            : !symmetric ? std::string("3D, unsymmetric: GMRES over it at any size")
+                                         : std::string("its Cholesky factor too large");
+    log::info("    linear solver auto: {} unknowns ({}): gamg, on one core in one process (mpirun -np N shares it out)",
+              a.rows(), why);
   }
   if (!solver_ || solver_->name() != want) {
     LinearSolverSettings s = choice_;

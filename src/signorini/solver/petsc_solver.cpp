@@ -889,7 +889,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   }
   int last_iterations() const override { return iterations_; }
   std::string last_method() const override {
-    if (direct_last_) return "contact multipliers kept, " + direct_method_;
+    if (direct_last_) return (direct_multipliers_ ? "contact multipliers kept, " : "after GMRES failed, ") + direct_method_;
     return std::string(condensed_last_ ? "condensed multipliers, " : "") +
            (condensed_last_ && refinements_ > 0 ? "gmres on the coupled rows over " : "") + describe_ksp(ksp_, s_);
   }
@@ -925,6 +925,15 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       }
     }
     ensure_assembled();
+    // `auto`'s algebraic multigrid on an unsymmetric displacement system (penalty friction,
+    // follower pressure): where GMRES fails, MUMPS's LU for that solve and the next 1, 2, 4, ...
+    // after each failure in a row, as one process's `auto` falls back to LU. The Krylov
+    // solver's verdict is collective, so every rank takes the same branch.
+    const bool fallback = s_.direct_fallback && !q.symmetric && !q.is_multiplier;
+    if (fallback && direct_skip_ > 0) {
+      --direct_skip_;
+      return solve_whole_direct(q, r, du);
+    }
     if (q.symmetric != symmetric_ || !ksp_) configured_ = false;
     symmetric_ = q.symmetric;
     MatSetOption(A_, MAT_SYMMETRIC, symmetric_ ? PETSC_TRUE : PETSC_FALSE);
@@ -933,7 +942,17 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       nullspace_stale_ = false;
     }
     set_owned(b_, r);
-    krylov(A_, b_, x_);
+    try {
+      krylov(A_, b_, x_);
+      if (fallback) direct_backoff_ = 1;
+    } catch (const SolverError& e) {
+      if (!fallback) throw;
+      direct_skip_ = direct_backoff_;
+      direct_backoff_ = std::min(2 * direct_backoff_, 64);
+      log::info("    {} failed on {} ranks ({}): MUMPS for this solve and the next {}", s_.type, size_, e.what(),
+                direct_skip_);
+      return solve_whole_direct(q, r, du);
+    }
     gather(x_, du);
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
     return s_.type;
@@ -954,6 +973,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     ensure_assembled();
     condensed_last_ = false;
     direct_last_ = true;
+    direct_multipliers_ = q.is_multiplier != nullptr;
     LinearSolverSettings direct = s_;
     direct.type = "mumps";
     KSP ksp = nullptr;
@@ -2023,6 +2043,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   bool condensed_last_ = false;  // the last solve condensed the contact multipliers
   int refinements_ = 0;          // its flexible GMRES steps (coupled rows; 0 when the elimination is exact)
   bool direct_last_ = false;     // the last solve took the whole system to MUMPS (solve_whole_direct)
+  bool direct_multipliers_ = false;  // ... with contact multipliers (else after GMRES failed)
   std::string direct_method_;
   int direct_skip_ = 0, direct_backoff_ = 1;  // solves left whole after a failed condensation, and the next run's length
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
