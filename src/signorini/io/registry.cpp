@@ -185,9 +185,11 @@ void register_linear_solvers(Registry& r) {
          "than 5e7 entries (linear: {direct_factor_limit: ...}; with PETSc) gamg; unsymmetric systems: UMFPACK, with "
          "PETSc MUMPS's LU above 10000 unknowns (UMFPACK if MUMPS fails); MUMPS's LDL^T (or "
          "UMFPACK) when Cholesky or the iterative solver fails. Lagrange friction on a 3D model (with PETSc; in 2D "
-         "above iterative_above): its multipliers condensed node by node, GMRES over gamg. Under mpirun: gamg "
-         "for such large 3D systems (contact multipliers condensed, Lagrange friction's too; the whole system to "
-         "mumps where they cannot be), mumps otherwise.",
+         "above iterative_above): its multipliers condensed node by node, GMRES over gamg. Unsymmetric systems "
+         "without multipliers on a 3D model (penalty friction, follower pressure; with PETSc): GMRES over gamg, LU "
+         "where it fails. Under mpirun: gamg for symmetric 3D systems above iterative_above (contact multipliers condensed) and for "
+         "unsymmetric 3D systems of any size (Lagrange friction's multipliers condensed, or none), the whole system "
+         "to mumps where they cannot be condensed or where GMRES fails; mumps otherwise.",
          {}});
   r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite).", {}});
   r.add({"linear_solver", "umfpack", "SuiteSparse UMFPACK multifrontal LU (any nonsingular matrix).", {}});

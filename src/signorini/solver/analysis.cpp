@@ -271,21 +271,24 @@ void Analysis::choose_algebra() {
     // (MUMPS: LDL^T when symmetric, else LU; any saddle point of multipliers) otherwise. With
     // algebraic multigrid the contact multipliers are condensed, and a system the condensation
     // cannot take goes whole to MUMPS (direct_fallback), as one process's `auto` takes UMFPACK.
-    // Lagrange friction on symmetric bodies: its multipliers condensed node by node (friction's
-    // multiplier blocks), the unsymmetric reduced system to GMRES over GAMG, as in one process.
-    // An unsymmetric system without multipliers (penalty or augmented Lagrangian friction,
-    // follower pressure): GMRES over GAMG, the whole system to MUMPS where GMRES fails.
-    bool amg = model_.settings.dimension == Dimension::three_d && num_unknowns() > model_.linear_solver.iterative_above;
+    // Unsymmetric 3D systems go to GMRES over GAMG at any size, as in one process (an LU of
+    // them fills badly: examples/cattaneo_sphere_3d, penalty friction, 11.8k unknowns on 2 ranks,
+    // 13.7 s with MUMPS against 2.8 s; docs/performance.md): Lagrange friction on symmetric
+    // bodies, its multipliers condensed node by node (friction's multiplier blocks), and a
+    // system without multipliers (penalty or augmented Lagrangian friction, follower pressure)
+    // as it is; the whole system to MUMPS where the blocks cannot be condensed or GMRES fails.
+    const bool three_d = model_.settings.dimension == Dimension::three_d;
     const bool symmetric = symmetric_solves(), blocks = !symmetric && has_multipliers_ && body_symmetric_;
     const bool displacements = !symmetric && !has_multipliers_;
-    amg = amg && (symmetric || blocks || displacements);
+    const bool amg = three_d && ((symmetric && num_unknowns() > model_.linear_solver.iterative_above) || blocks ||
+                                 displacements);
     model_.linear_solver.type = amg ? "gamg" : "mumps";
     model_.linear_solver.direct_fallback = amg;
     log::info("  linear     auto under mpirun: {} ({} unknowns{})", model_.linear_solver.type, num_unknowns(),
               !amg ? ""
-              : symmetric ? ", symmetric, 3D"
-              : blocks    ? ", 3D, friction's multipliers condensed"
-                          : ", 3D, unsymmetric: GMRES, MUMPS where it fails");
+              : symmetric ? ", symmetric, 3D, above iterative_above"
+              : blocks    ? ", 3D, friction's multipliers condensed for GMRES at any size"
+                          : ", 3D, unsymmetric: GMRES at any size, MUMPS where it fails");
   }
   const std::string& linear = model_.linear_solver.type;
   if (!is_petsc_solver(linear)) {
