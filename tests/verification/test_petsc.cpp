@@ -129,8 +129,8 @@ TEST(Petsc, AutoTakesPenaltyFrictionToGmresOverGamgAndFallsBackToLu) {
   // Friction by the penalty (examples/cattaneo_sphere_3d as shipped, a coarser mesh): the
   // tangent is unsymmetric and has no multipliers, a displacement system that algebraic
   // multigrid takes; `auto` sends it in 3D to GMRES over GAMG at any size (backend.cpp; until
-  // session 59 MUMPS's or UMFPACK's LU: on the example's own mesh, 11.8k unknowns, 127 s of
-  // UMFPACK's solves against 4.3 s). Against UMFPACK: the same answer to 1e-6, in at most a few
+  // session 59 MUMPS's or UMFPACK's LU: on the example's own mesh, 11.8k unknowns, 11.3 s of
+  // MUMPS's solves, 21 s of UMFPACK's, against 2.5 s). Against UMFPACK: the same answer to 1e-6, in at most a few
   // more Newton iterations (inexact Newton). Where GMRES fails (here made to by PETSc's option
   // -ksp_max_it 2), `auto` falls back to LU for that solve and the next 1, 2, 4, ... and reaches
   // the same answer.

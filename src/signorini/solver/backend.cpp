@@ -105,7 +105,7 @@ class SerialBackend final : public AlgebraBackend {
     // unsymmetric too (friction by the penalty or the augmented Lagrangian, follower pressure):
     // `auto` sends it in 3D to GMRES over GAMG at any size, as friction's multiplier blocks,
     // falling back to LU where GMRES fails (measured on the 3D Hertz sphere with penalty
-    // friction: 3.5x faster than MUMPS's LU at 15k unknowns, 12x at 35k; docs/performance.md).
+    // friction: 3.5x faster than MUMPS's LU at 15k unknowns, 5-6x at 35k; docs/performance.md).
     linear_.set_unsymmetric_amg(!q.is_multiplier);
     linear_.set_unsymmetric_amg_any_size(!q.is_multiplier);
     linear_.solve(system_.matrix(), q.symmetric, r, du);
