@@ -2,11 +2,12 @@
 # Hertz 3D quarter model (examples/hertz_sphere_3d) at increasing size: DOFs, Newton
 # iterations, wall time split into assembly / contact / linear solve, peak memory, and the
 # errors against Hertz. Usage: [LINEAR=gamg] [MPIRUN="mpirun -np 2"] [FRICTION="{law: coulomb,
-# mu: 0.3}"] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear
+# mu: 0.3}"] [ENFORCEMENT=penalty] bench/hertz3d_scaling.sh [BUILD_DIR] [hc ...]. LINEAR: the deck's solver.linear
 # (default: the deck's own, auto); MPIRUN: the launcher the solver runs under (default: none, one
-# process); FRICTION: the pair's friction (default: frictionless; with Lagrange friction the
-# contact system is unsymmetric: factorized whole by auto below iterative_above, condensed node
-# by node for GMRES over GAMG with LINEAR=gamg or above it, docs/performance.md, sessions 57-58).
+# process); FRICTION: the pair's friction (default: frictionless; the contact system is then
+# unsymmetric: with Lagrange multipliers condensed node by node, with ENFORCEMENT=penalty as it is,
+# for GMRES over GAMG, which auto takes in 3D at any size; docs/performance.md, sessions 57-59);
+# ENFORCEMENT: the pair's enforcement method (default: the deck's, lagrange).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -23,6 +24,10 @@ for hc in "${sizes[@]}"; do
   if [ -n "${FRICTION:-}" ]; then
     sed -i "s|^    slave: SphereSurface\$|    slave: SphereSurface\n    friction: $FRICTION|" "$work/deck.yaml"
     grep -q "friction: " "$work/deck.yaml" || { echo "FRICTION: no slave line to add it under" >&2; exit 1; }
+  fi
+  if [ -n "${ENFORCEMENT:-}" ]; then
+    sed -i "s|^    slave: SphereSurface\$|    slave: SphereSurface\n    enforcement: {method: $ENFORCEMENT}|" "$work/deck.yaml"
+    grep -q "enforcement: " "$work/deck.yaml" || { echo "ENFORCEMENT: no slave line to add it under" >&2; exit 1; }
   fi
   ${MPIRUN:-} "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"
