@@ -63,7 +63,10 @@ class SerialBackend final : public AlgebraBackend {
     condensed_.set_factor_too_large(linear_.factor_too_large());
   }
   // In 3D with `auto` and PETSc, Lagrange friction's condensed system may go to GAMG at any size.
-  bool wants_layout() const override { return linear_.wants_layout(rows()) || condensed_.wants_layout_for_blocks(); }
+  // So may an unsymmetric system without multipliers (set per solve, so asked here directly).
+  bool wants_layout() const override {
+    return linear_.wants_layout(rows()) || condensed_.wants_layout_for_blocks() || linear_.unsymmetric_amg_in_3d();
+  }
   void set_layout(std::shared_ptr<const UnknownLayout> layout) override {
     linear_.set_layout(layout);
     condensed_.set_layout(layout);

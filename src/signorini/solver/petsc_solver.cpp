@@ -905,9 +905,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
                               " ranks cannot take the contact multipliers' saddle point (use enforcement: penalty, or "
                               "linear: mumps)");
       // `auto`'s algebraic multigrid (direct_fallback): a system the condensation cannot take
-      // (no pivot, or the coupled rows' GMRES stalling) goes whole to MUMPS, as one process's
-      // `auto` takes UMFPACK, for that solve and the next 1, 2, 4, ... after each failure in a
-      // row. Every rank reaches the same decision (the condensation's data are on every rank).
+      // (no pivot, or the coupled rows' GMRES stalling), or whose condensed system's Krylov
+      // solve fails (friction's blocks go to GMRES over GAMG at any size in 3D), goes whole to
+      // MUMPS, as one process's `auto` takes an LU, for that solve and the next 1, 2, 4, ...
+      // after each failure in a row. Every rank reaches the same decision (the condensation's
+      // data are on every rank, the Krylov solver's verdict is collective).
       if (s_.direct_fallback && direct_skip_ > 0) {
         --direct_skip_;
         return solve_whole_direct(q, r, du);
@@ -921,6 +923,16 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         direct_skip_ = direct_backoff_;
         direct_backoff_ = std::min(2 * direct_backoff_, 64);
         log::info("    contact multipliers kept in the linear system (MUMPS on {} ranks): {}", size_, e.why);
+        return solve_whole_direct(q, r, du);
+      } catch (const FatalModelError&) {
+        throw;
+      } catch (const SolverError& e) {
+        if (!s_.direct_fallback) throw;
+        direct_skip_ = direct_backoff_;
+        direct_backoff_ = std::min(2 * direct_backoff_, 64);
+        log::info("    contact multipliers kept in the linear system (MUMPS on {} ranks for this solve and the next {}): "
+                  "the condensed system's solve failed ({})",
+                  size_, direct_skip_, e.what());
         return solve_whole_direct(q, r, du);
       }
     }
@@ -945,6 +957,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     try {
       krylov(A_, b_, x_);
       if (fallback) direct_backoff_ = 1;
+    } catch (const FatalModelError&) {
+      throw;
     } catch (const SolverError& e) {
       if (!fallback) throw;
       direct_skip_ = direct_backoff_;
