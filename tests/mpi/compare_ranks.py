@@ -9,7 +9,8 @@ algebra that way.
 With PARTITION (rcb or ptscotch), the N ranks share the cells out that way (solver.linear.partition).
 COMPARE_DECK_EDIT ("old=>new|..."), COMPARE_RESIDUAL_TOLERANCE: see below.
 LINEAR "auto" leaves the choice to the solver, which under mpirun must pick mumps (the example
-being below the default iterative_above); "auto@K" sets iterative_above K, below the example's
+being below the default iterative_above), or what COMPARE_EXPECT_AUTO names (gamg for an
+unsymmetric 3D model, at any size); "auto@K" sets iterative_above K, below the example's
 unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
 distributed backend condenses). summary.json's linear type says what was picked.
 Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""

@@ -258,8 +258,9 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
   if (skipping) --spd_skip_;
   const std::string indefinite = indefinite_solver(a.rows(), symmetric);
   if (want == "auto") {
-    // An unsymmetric displacement system (set_unsymmetric_amg) too large to factorize: GMRES
-    // over GAMG, falling back to LU as a symmetric one falls back from Cholesky.
+    // An unsymmetric displacement system (set_unsymmetric_amg) that unsymmetric_iterative sends
+    // to algebraic multigrid (large, or in 3D at any size while set_unsymmetric_amg_any_size
+    // holds): GMRES over GAMG, falling back to LU as a symmetric one falls back from Cholesky.
     if (!symmetric && unsymmetric_amg_ && !skipping && unsymmetric_iterative(a.rows())) want = "gamg";
     else want = !spd_wanted ? indefinite : auto_spd_solver(a.rows());
   }

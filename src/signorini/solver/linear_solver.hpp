@@ -131,15 +131,16 @@ class AutoLinearSolver {
     return is_amg_solver(choice_.type);
   }
   // With `auto` in a build with PETSc, 3D: the unsymmetric systems of set_unsymmetric_amg go to
-  // GMRES over GAMG at any size (Lagrange friction's condensed system, whose whole system a
-  // factorization fills badly in 3D: docs/performance.md, session 58). Set per solve.
+  // GMRES over GAMG at any size (Lagrange friction's condensed system, and since session 59 any
+  // system without multipliers, e.g. penalty friction's, whose LU fills badly in 3D:
+  // docs/performance.md, sessions 58-59). Set per solve.
   void set_unsymmetric_amg_any_size(bool v) { any_size_3d_ = v; }
   // Whether `auto` would send such systems of a 3D model to GAMG at any size (its caller then
   // wants the unknowns' layout for the rigid-body modes).
   bool unsymmetric_amg_in_3d() const { return choice_.type == "auto" && three_d_ && petsc_available(); }
   // The systems this solver gets are displacement systems that algebraic multigrid can take
-  // even when unsymmetric (the condensed contact system with friction's multipliers); not a
-  // saddle point. Off by default.
+  // even when unsymmetric (the condensed contact system with friction's multipliers, or a
+  // system without multipliers); not a saddle point. Off by default; set per solve.
   void set_unsymmetric_amg(bool v) { unsymmetric_amg_ = v; }
   // The solver `auto` gives such a system: CHOLMOD, or when iterative() GAMG (eigen_cg in a
   // build without PETSc).
@@ -150,8 +151,9 @@ class AutoLinearSolver {
   // process of a build with PETSc, for a symmetric (indefinite) system (LDL^T) and for an
   // unsymmetric one above kMumpsLuAbove unknowns (LU); UMFPACK's LU otherwise.
   static std::string indefinite_solver(Index rows, bool symmetric);
-  // Unsymmetric systems (Lagrange friction's whole contact system, follower pressure) above
-  // this many unknowns go to MUMPS's LU rather than UMFPACK's: MUMPS orders by nested
+  // Unsymmetric systems (Lagrange friction's whole contact system; in 2D, or without PETSc's
+  // algebraic multigrid in 3D, follower pressure and penalty friction) above this many unknowns
+  // go to MUMPS's LU rather than UMFPACK's: MUMPS orders by nested
   // dissection, UMFPACK by AMD on A + A^T. Measured on this 2-core machine (docs/performance.md,
   // session 57), the 3D Hertz sphere with Coulomb friction: 4.3k unknowns 0.58 s against MUMPS's
   // 0.90 s (PETSc's set-up); 15k 6.2 s against 4.0 s; 35k 64 s and 2 631 MiB against 24 s and
