@@ -33,7 +33,8 @@ class SerialBackend final : public AlgebraBackend {
   // target (issue 14: at most CalculiX's).
   // Also kept once a solve went to an iterative solver below that size (`auto`'s GMRES over
   // GAMG on an unsymmetric 3D system, friction's multiplier blocks): the cattaneo_sphere_3d
-  // example (11.8k unknowns, penalty friction) spent 10.8 s assembling against 5.6 s solving.
+  // example (11.8k unknowns, penalty friction) assembled its linear bodies at each of its 63
+  // tangents, and now 10 times (docs/performance.md, session 59).
   void save_values() override {
     if (!linear_.iterative(rows()) && !iterative_last_) return;
     const SparseMatrix& m = system_.matrix();
