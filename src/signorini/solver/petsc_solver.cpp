@@ -920,20 +920,18 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         return used;
       } catch (const CannotCondense& e) {
         if (!s_.direct_fallback) throw;
-        direct_skip_ = direct_backoff_;
-        direct_backoff_ = std::min(2 * direct_backoff_, 64);
-        log::info("    contact multipliers kept in the linear system (MUMPS on {} ranks): {}", size_, e.why);
-        return solve_whole_direct(q, r, du);
+        return direct_after_failure(q, r, du, [&] {
+          return fmt::format("    contact multipliers kept in the linear system (MUMPS on {} ranks): {}", size_, e.why);
+        });
       } catch (const FatalModelError&) {
         throw;
       } catch (const SolverError& e) {
         if (!s_.direct_fallback) throw;
-        direct_skip_ = direct_backoff_;
-        direct_backoff_ = std::min(2 * direct_backoff_, 64);
-        log::info("    contact multipliers kept in the linear system (MUMPS on {} ranks for this solve and the next {}): "
-                  "the condensed system's solve failed ({})",
-                  size_, direct_skip_, e.what());
-        return solve_whole_direct(q, r, du);
+        return direct_after_failure(q, r, du, [&] {
+          return fmt::format("    contact multipliers kept in the linear system (MUMPS on {} ranks for this solve and the "
+                             "next {}): the condensed system's solve failed ({})",
+                             size_, direct_skip_, e.what());
+        });
       }
     }
     ensure_assembled();
@@ -961,11 +959,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       throw;
     } catch (const SolverError& e) {
       if (!fallback) throw;
-      direct_skip_ = direct_backoff_;
-      direct_backoff_ = std::min(2 * direct_backoff_, 64);
-      log::info("    {} failed on {} ranks ({}): MUMPS for this solve and the next {}", s_.type, size_, e.what(),
-                direct_skip_);
-      return solve_whole_direct(q, r, du);
+      return direct_after_failure(q, r, du, [&] {
+        return fmt::format("    {} failed on {} ranks ({}): MUMPS for this solve and the next {}", s_.type, size_, e.what(),
+                           direct_skip_);
+      });
     }
     gather(x_, du);
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
@@ -980,6 +977,16 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     CannotCondense(const std::string& message, std::string reason) : FatalModelError(message), why(std::move(reason)) {}
     std::string why;
   };
+  // After a failure of `auto`'s algebraic multigrid: MUMPS on the whole system for this solve and
+  // the next 1, 2, 4, ... after each failure in a row (direct_skip_, direct_backoff_), logged
+  // with `message` (made once the skip is set).
+  std::string direct_after_failure(const NewtonSolveRequest& q, const VecX& r, VecX& du,
+                                   const std::function<std::string()>& message) {
+    direct_skip_ = direct_backoff_;
+    direct_backoff_ = std::min(2 * direct_backoff_, 64);
+    log::info("{}", message());
+    return solve_whole_direct(q, r, du);
+  }
   // The whole system, multipliers and all, to MUMPS (LDL^T when symmetric, else LU), its own
   // Krylov object under the options prefix signorini_direct_ (the deck's raw options are for
   // the algebraic multigrid), destroyed after the solve so that its factor does not stay.
