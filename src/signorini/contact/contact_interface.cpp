@@ -305,6 +305,7 @@ void ContactInterface::assemble(const std::vector<Vec3>& x, const VecX& z, const
   if (frictional()) {
     in.friction = friction_.get();
     in.fixed = fixed;
+    if (discretization_->weighted_slip()) in.slave_nodes = &is_slave_;
     in.stick_predictor = stick_predictor_;
     in.stick_at_kink = stick_at_kink_ && K;
   }

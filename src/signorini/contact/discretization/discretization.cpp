@@ -599,6 +599,7 @@ class Mortar final : public DeformableMaster {
   // multiplier, the dual pressure's nodal value (the coefficient of N~_j, as the gap), per
   // reference area (Constraint::pressure_factor).
   bool pressure_is_multiplier() const override { return quadratic_slave_; }
+  bool weighted_slip() const override { return true; }
 
   void detect(const std::vector<Vec3>& x, Real dmax, Real motion, const std::vector<char>& tracked) override {
     if (self_) self_candidates(x, dmax);
@@ -871,6 +872,7 @@ class SegmentToSegment final : public DeformableMaster {
   // Nitsche on mortar integration (cells_) is this class on mortar's segments.
   std::string name() const override { return cells_ ? "mortar" : "segment_to_segment"; }
   bool pressure_is_multiplier() const override { return true; }
+  bool weighted_slip() const override { return true; }
 
   // Nitsche on mortar integration: each slave facet's points are those of mortar's segmentation
   // against its candidates (mortar_cell_points), each held on its cell's master facet; a facet

@@ -66,6 +66,11 @@ class Discretization {
   // force per weight follows the consistent-load pattern (a uniform pressure p puts no force
   // on a tri6 corner and read 0 there, 5/3 p at the mid-side nodes).
   virtual bool pressure_is_multiplier() const { return false; }
+  // Whether a node's slip is an average over its facets (mortar, segment_to_segment): it then
+  // involves its neighbours' DOFs, and on a symmetry plane its half support's, so that friction
+  // needs the symmetry planes named from the Dirichlet conditions
+  // (enforcement.cpp, prescribed_slip_directions).
+  virtual bool weighted_slip() const { return false; }
   // The slip origin of a constrained node: the master point of c, the slave at x_s.
   virtual SlipOrigin origin(const Constraint& c, const Vec3& x_s, const VecX& z) const;
   // Friction kinematics of c from its origin: d = x_s - x_0 and D = dd/dz (Constraint::slip,

@@ -46,6 +46,11 @@ struct EnforcementInput {
   // Friction: the law; constraints with has_slip get the frictional force.
   const FrictionLaw* friction = nullptr;
   const std::vector<char>* fixed = nullptr;  // per unknown: 1 if a Dirichlet condition prescribes it
+  // Friction with a weighted slip (Discretization::weighted_slip: mortar, segment_to_segment):
+  // per mesh node, 1 for the pair's slave nodes, which tells a constraint's slave columns from
+  // its master ones (symmetry planes: enforcement.cpp, prescribed_slip_directions). Null: the
+  // slip is the node's own (x_s - x_0).
+  const std::vector<char>* slave_nodes = nullptr;
   // Friction, penalty and augmented Lagrangian: the stick predictor is on (ContactInterface;
   // only in an increment that starts with every node open): a closed node sticks, whatever its
   // trial.
