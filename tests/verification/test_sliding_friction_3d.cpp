@@ -24,9 +24,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <string>
 
 #include "example_deck.hpp"
 #include "signorini/core/log.hpp"
@@ -92,83 +89,3 @@ INSTANTIATE_TEST_SUITE_P(Discretizations, SlidingFriction3D,
                                   std::to_string(static_cast<int>(std::lround(10 * i.param.mu)));
                          });
 
-// Symmetry planes with a weighted slip (mortar, segment_to_segment): the Hertz quarter on
-// CalculiX's coarse tet10 mesh (examples/hertz_sphere_3d_tet10: steel on steel, the sphere's
-// top pressed 0.031 mm, symmetry planes x = 0 and y = 0) with Coulomb friction, pressed in one
-// increment from zero. A node's slip there is an average over its facets; on a plane, over the
-// half of its support the quarter keeps, whose component across the plane the whole model's
-// mirrored half cancels. Unless that component is released (enforcement.cpp,
-// prescribed_slip_directions), the plane's nodes carry a tangential traction across the plane
-// (0.8-1.0 mu p measured at mu 0.3, where symmetry makes it 0) and the stick/slip statuses
-// cycle: 38 Newton iterations and a cutback with mortar at mu 0.3, 57 and a cutback at mu 0.8,
-// a cutback with segment_to_segment at mu 0.3. Asserted: the traction across the planes is 0
-// at every closed node on them, no cutback, at most 20 Newton iterations (measured: mortar 15
-// at mu 0.3 and 0.8, segment_to_segment 10), and CalculiX's contact force to 0.3 % (identical
-// materials: friction leaves the normal problem nearly unchanged).
-struct QuarterCase {
-  const char* discretization;
-  Real mu;
-};
-class FrictionalHertzQuarter3D : public ::testing::TestWithParam<QuarterCase> {};
-
-TEST_P(FrictionalHertzQuarter3D, SymmetryPlanesCarryNoTractionAcrossThem) {
-  namespace fs = std::filesystem;
-  const std::string disc = GetParam().discretization;
-  const Real mu = GetParam().mu;
-  log::set_level(std::getenv("SIGNORINI_TEST_VERBOSE") ? log::Level::info : log::Level::warning);
-  const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "hertz_sphere_3d_tet10" / "hertz_sphere_3d_tet10.yaml";
-  std::ifstream in(src);
-  std::string deck((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string mesh = "file: ../../tests/data/", pair = "    discretization: mortar\n";
-  ASSERT_NE(deck.find(mesh), std::string::npos);
-  ASSERT_NE(deck.find(pair), std::string::npos);
-  deck.replace(deck.find(mesh), mesh.size(), "file: " + std::string(SIGNORINI_TEST_DATA) + "/");
-  deck.replace(deck.find(pair), pair.size(),
-               "    discretization: " + disc + "\n    friction: {law: coulomb, mu: " + std::to_string(mu) + "}\n");
-  const fs::path dir = fs::temp_directory_path() / ("signorini_quarter_" + disc + "_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "deck.yaml") << deck;
-  Registry r = default_registry();
-  Model m = read_deck((dir / "deck.yaml").string(), r);
-  m.output.vtu = "none";
-  m.output.directory = (dir / "results").string();
-  Analysis a(m);
-  const AnalysisSummary sum = a.run();
-  fs::remove_all(dir);
-  ASSERT_TRUE(sum.completed) << sum.failure;
-  ASSERT_EQ(sum.increments.size(), 1u) << disc << ": the press in one increment";
-  const IncrementRecord& inc = sum.increments[0];
-  EXPECT_EQ(inc.cutbacks, 0) << disc;
-  EXPECT_LE(inc.iterations, 20) << disc;
-  ASSERT_FALSE(inc.contact.empty());
-  EXPECT_NEAR(inc.contact[0].force.z(), 580.6, 0.003 * 580.6) << disc << ": CalculiX's force on the quarter";
-  // The traction across the planes at the closed nodes on them (within 1e-6 of the mesh's
-  // 0.4 mm facets of the plane), against mu p.
-  const ContactInterface& c = *a.contacts().at(0);
-  const auto& x = m.mesh.nodes;
-  int on_plane = 0;
-  for (size_t j = 0; j < c.constraints().size(); ++j) {
-    const Constraint& k = c.constraints()[j];
-    if (k.kind == ConstraintKind::none || !c.state().active.at(j)) continue;
-    const Real p = c.state().pressure.at(j);
-    const Vec3& t = c.state().traction.at(j);
-    for (int axis = 0; axis < 2; ++axis)
-      if (std::abs(x[k.slave](axis)) < 1e-6) {
-        ++on_plane;
-        EXPECT_LE(std::abs(t(axis)), 1e-8 * mu * p)
-            << disc << ": slave node at (" << x[k.slave].transpose() << "), traction " << t.transpose() << ", p " << p;
-      }
-  }
-  EXPECT_GE(on_plane, 10) << disc << ": closed nodes on the symmetry planes";
-  std::printf("%s, mu %.1f: %d Newton iterations, %ld closed (%ld sticking), %d closed-node/plane pairs, F_z %.2f\n",
-              disc.c_str(), mu, inc.iterations, static_cast<long>(inc.contact[0].active),
-              static_cast<long>(inc.contact[0].sticking), on_plane, inc.contact[0].force.z());
-}
-
-INSTANTIATE_TEST_SUITE_P(Discretizations, FrictionalHertzQuarter3D,
-                         ::testing::Values(QuarterCase{"mortar", 0.3}, QuarterCase{"mortar", 0.8},
-                                           QuarterCase{"segment_to_segment", 0.3}),
-                         [](const ::testing::TestParamInfo<QuarterCase>& i) {
-                           return std::string(i.param.discretization) + "_mu0p" +
-                                  std::to_string(static_cast<int>(std::lround(10 * i.param.mu)));
-                         });

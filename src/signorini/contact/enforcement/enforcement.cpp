@@ -63,7 +63,8 @@ Coloring color_constraints(const EnforcementInput& in, Index total_unknowns) {
 // nodes of the constraint along a on at least 0.1 of their weight in the slip (the master's
 // side of the plane), and a is tangential within about 6 degrees (|n . e_a| < 0.1). A slave
 // node held along a over a master that slides along a keeps its friction (the master's side
-// is free), as the test above decides for a node's own slip.
+// is free), as the test above decides for a node's own slip; so does a slave node held in
+// every direction (a clamped edge, not a plane of symmetry, where the node moves normally).
 MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c, const std::vector<Index>& dofs,
                                 int m) {
   const int dim = in.dim;
@@ -85,7 +86,9 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
   std::vector<VecX> released;
   for (int i = 0; i < dim; ++i)
     if (es.eigenvalues()(i) < 1e-2) released.push_back(P * es.eigenvectors().col(i));
-  if (in.slave_nodes) {
+  bool clamped = true;  // the slave node held in every direction
+  for (int a = 0; a < dim && clamped; ++a) clamped = dofs[a] < 0 || (*in.fixed)[dofs[a]];
+  if (in.slave_nodes && !clamped) {
     const Index nodes = std::min<Index>(static_cast<Index>(c.nodes.size()), std::min<Index>(m, D.cols()) / dim);
     for (int a = 0; a < dim; ++a) {
       if (std::abs(nv(a)) >= 0.1 || dofs[a] < 0 || !(*in.fixed)[dofs[a]]) continue;
