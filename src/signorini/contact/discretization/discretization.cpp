@@ -18,6 +18,7 @@
 #include "signorini/contact/search/search.hpp"
 #include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/core/first_error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/core/rank_exchange.hpp"
 #include "signorini/fem/boundary_traction.hpp"
@@ -610,10 +611,12 @@ class Mortar final : public DeformableMaster {
     if (dim_ == 3 && !self_) {
       const Index ne = slave_facets_.size();
       coupled_masters_.assign(ne, {});
+      FirstError first;
 #pragma omp parallel for schedule(dynamic, 8)
       for (Index e = 0; e < ne; ++e)
         if (!candidates_[e].empty())
-          set_coupled_masters(e, mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, false).masters);
+          first.run([&] { set_coupled_masters(e, mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, false).masters); });
+      first.rethrow();
     }
   }
 
@@ -645,17 +648,24 @@ class Mortar final : public DeformableMaster {
     if (ranks > 1)
       for (Index e = 0, k = 0; e < ne; ++e)
         if (!candidates_[e].empty()) mine[e] = (k++ % ranks) == rank;
+    FirstError first;
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (overlaps) coupled_masters_[e].clear();
       if (candidates_[e].empty() || !mine[e]) continue;
-      MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
-                                      : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
-      if (overlaps) set_coupled_masters(e, r.masters);
-      if (!r.overlap) continue;
-      facet[e].push_back(r.facet);
-      results[e].push_back(std::move(r));
+      first.run([&] {
+        MortarFacetResult r = dim_ == 2 ? mortar_element_2d(slave_facets_, e, master_, candidates_[e], x, measure_, true, self_)
+                                        : mortar_element_3d(slave_facets_, e, master_, candidates_[e], x, true, second_variation_);
+        if (overlaps) set_coupled_masters(e, r.masters);
+        if (!r.overlap) return;
+        facet[e].push_back(r.facet);
+        results[e].push_back(std::move(r));
+      });
     }
+    // Shared out over ranks, a failure on one rank is thrown by all of them (the lowest rank's),
+    // before the exchange that the others would wait in.
+    if (ranks > 1) first.rethrow_agreed(*ranks_);
+    first.rethrow();
     if (ranks > 1) exchange_results(mine, results, facet);
     gather(slave_facets_, index_, results, facet, out);
     // Friction's slip origin: each node's weighted relative position gathered over its facets'
@@ -939,13 +949,17 @@ class SegmentToSegment final : public DeformableMaster {
     const Index ne = slave_facets_.size();
     hits_.assign(ne, {});
     held_.resize(ne);
+    FirstError first;
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
       if (candidates_[e].empty()) continue;
-      IntegrationResult r;
-      integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, nullptr, &held_[e]);
-      hits_[e] = std::move(r.hit);
+      first.run([&] {
+        IntegrationResult r;
+        integration_point_gaps(integration_[e], master_, candidates_[e], x, dim_, r, nullptr, &held_[e]);
+        hits_[e] = std::move(r.hit);
+      });
     }
+    first.rethrow();
     if (log::level() <= log::Level::debug) {
       size_t with = 0, cand = 0, hit = 0;
       for (Index e = 0; e < ne; ++e)
@@ -1170,38 +1184,42 @@ class SegmentToSegment final : public DeformableMaster {
     held_.resize(ne);
     hits_.resize(ne);
     const bool friction = !origins_.empty();
+    FirstError first;
 #pragma omp parallel for schedule(dynamic, 8)
     for (Index e = 0; e < ne; ++e) {
-      std::vector<MortarCellPoint> cells;
-      if (!candidates_[e].empty()) mortar_cell_points(slave_facets_, e, master_, candidates_[e], x, dim_, cells);
-      if (cells.empty()) {
-        integration_[e] = rule_[e];
-        held_[e].assign(rule_[e].N.size(), -1);
-      } else {
-        std::vector<Vec2> xi(cells.size());
-        std::vector<Real> w(cells.size());
-        held_[e].resize(cells.size());
-        hits_[e].clear();
-        for (size_t q = 0; q < cells.size(); ++q) {
-          xi[q] = Vec2(cells[q].xi[0], cells[q].xi[1]);
-          w[q] = cells[q].weight;
-          held_[e][q] = cells[q].master;
-          hits_[e].push_back(cells[q].master);
+      first.run([&] {
+        std::vector<MortarCellPoint> cells;
+        if (!candidates_[e].empty()) mortar_cell_points(slave_facets_, e, master_, candidates_[e], x, dim_, cells);
+        if (cells.empty()) {
+          integration_[e] = rule_[e];
+          held_[e].assign(rule_[e].N.size(), -1);
+        } else {
+          std::vector<Vec2> xi(cells.size());
+          std::vector<Real> w(cells.size());
+          held_[e].resize(cells.size());
+          hits_[e].clear();
+          for (size_t q = 0; q < cells.size(); ++q) {
+            xi[q] = Vec2(cells[q].xi[0], cells[q].xi[1]);
+            w[q] = cells[q].weight;
+            held_[e][q] = cells[q].master;
+            hits_[e].push_back(cells[q].master);
+          }
+          std::sort(hits_[e].begin(), hits_[e].end());
+          hits_[e].erase(std::unique(hits_[e].begin(), hits_[e].end()), hits_[e].end());
+          integration_[e] = integration_facet_at(rule_[e], *X_, dim_, axisymmetric_, thickness_, xi, w);
         }
-        std::sort(hits_[e].begin(), hits_[e].end());
-        hits_[e].erase(std::unique(hits_[e].begin(), hits_[e].end()), hits_[e].end());
-        integration_[e] = integration_facet_at(rule_[e], *X_, dim_, axisymmetric_, thickness_, xi, w);
-      }
-      if (friction) {
-        origins_[e].assign(integration_[e].N.size(), {});
-        if (candidates_[e].empty()) continue;
-        IntegrationResult r;
-        std::vector<IntegrationPointGap> pg;
-        std::vector<Index> held = held_[e];
-        integration_point_gaps(integration_[e], master_, candidates_[e], start_, dim_, r, &pg, &held);
-        for (IntegrationPointGap& g : pg) origins_[e][g.q] = std::move(g.master_point);
-      }
+        if (friction) {
+          origins_[e].assign(integration_[e].N.size(), {});
+          if (candidates_[e].empty()) return;
+          IntegrationResult r;
+          std::vector<IntegrationPointGap> pg;
+          std::vector<Index> held = held_[e];
+          integration_point_gaps(integration_[e], master_, candidates_[e], start_, dim_, r, &pg, &held);
+          for (IntegrationPointGap& g : pg) origins_[e][g.q] = std::move(g.master_point);
+        }
+      });
     }
+    first.rethrow();
     if (traction_) positive_weights();
   }
 

@@ -505,7 +505,10 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
     else if (n2 <= 20) ok = segment_derivatives<20>(L, xl, measure, s);
     else if (n2 <= 24) ok = segment_derivatives<24>(L, xl, measure, s);
     else throw Error("mortar: a slave facet depends on more nodes than expected (" + std::to_string(nodes.size()) + ")");
-    if (!ok) throw Error("mortar: a segment found in plain numbers was not found again with derivatives");
+    // The overlap at the clipping's round-off threshold (an iterate that moved the bodies far,
+    // e.g. a line search's trial): a SolverError, so that Newton shortens its step or the
+    // increment is cut back, instead of ending the analysis.
+    if (!ok) throw SolverError("mortar: a segment found in plain numbers was not found again with derivatives");
     segments.push_back(std::move(s));
   }
   // A sliver of cover: the dual basis on it is ill-conditioned (M nearly singular) while its
