@@ -86,7 +86,7 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
   std::vector<VecX> released;
   for (int i = 0; i < dim; ++i)
     if (es.eigenvalues()(i) < 1e-2) released.push_back(P * es.eigenvectors().col(i));
-  bool clamped = true;  // the slave node held in every direction
+  bool clamped = in.slave_nodes != nullptr;  // a weighted slip's slave node held in every direction
   for (int a = 0; a < dim && clamped; ++a) clamped = dofs[a] < 0 || (*in.fixed)[dofs[a]];
   if (in.slave_nodes && !clamped) {
     const Index nodes = std::min<Index>(static_cast<Index>(c.nodes.size()), std::min<Index>(m, D.cols()) / dim);
