@@ -88,4 +88,3 @@ INSTANTIATE_TEST_SUITE_P(Discretizations, SlidingFriction3D,
                            return std::string(i.param.discretization) + "_mu0p" +
                                   std::to_string(static_cast<int>(std::lround(10 * i.param.mu)));
                          });
-

@@ -10,6 +10,7 @@
 #include "signorini/contact/discretization/rigid_obstacle.hpp"
 #include "signorini/core/binary_io.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/core/first_error.hpp"
 #include "signorini/core/log.hpp"
 
 namespace signorini {
@@ -192,19 +193,9 @@ void ContactInterface::build_constraints(const std::vector<Vec3>& x, const VecX&
     // Each rank builds its own points (the slave body's stress at them may fail on one rank
     // only: an inverted cell): the ranks agree on the lowest rank's failure, which all of them
     // throw, a SolverError (Newton shortens its step) or an Error alike.
-    std::string failure;
-    try {
-      discretization_->build(x, z, dmax_, constraints_);
-    } catch (const SolverError& e) {
-      failure = std::string("S") + e.what();
-    } catch (const std::exception& e) {
-      failure = std::string("E") + e.what();
-    }
-    for (const std::string& f : ranks_->allgather(failure)) {
-      if (f.empty()) continue;
-      if (f[0] == 'S') throw SolverError(f.substr(1));
-      throw Error(f.substr(1));
-    }
+    FirstError failure;
+    failure.run([&] { discretization_->build(x, z, dmax_, constraints_); });
+    failure.rethrow_agreed(*ranks_);
   } else {
     discretization_->build(x, z, dmax_, constraints_);
   }
