@@ -6,11 +6,14 @@
 // transformed basis of self-contact), with derivatives that match central differences.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstring>
 #include <sstream>
 
 #include "signorini/contact/discretization/mortar.hpp"
+#include "signorini/contact/discretization/mortar_dual.hpp"
 #include "signorini/core/error.hpp"
 
 using namespace signorini;
@@ -219,13 +222,22 @@ TEST(Mortar, SliverOfCoverIsLeftOut) {
 }
 
 TEST(Mortar, SlipCombinationMeasuresTheRelativeMotion) {
-  // Friction's slip (mortar.hpp, `relative`, `slip_weight`): per slave node, the average of
-  // x_s - x_m(chi) over its facets' segments as a combination of nodes. Its slave coefficients
-  // sum to its weight and its master ones to minus it (a rigid translation of both curves gives
-  // no slip); on flat curves 0.01 apart it gives (0, 0.01) (the points pair along the normal),
-  // and with the coefficients frozen, a master moved by 0.03 along x gives (-0.03, 0.01). A
-  // master ending inside the last facet (x = 0.8), line2 and line3.
+  // Friction's slip (mortar.hpp, `relative`, `slip_weight`): per slave node, the dual-weighted
+  // int Phi_j (x_s - x_m(chi)) over its facets' segments as a combination of nodes. Its slave
+  // coefficients sum to its weight and its master ones to minus it (a rigid translation of both
+  // curves gives no slip); on flat curves 0.01 apart it gives (0, 0.01) (the points pair along
+  // the normal), and with the coefficients frozen, a master moved by 0.03 along x gives
+  // (-0.03, 0.01). Biorthogonality: node j's slave coefficients are its weight times column j of
+  // T^-1 (N~ = T N, line3's non-negative basis), none on the facet's neighbours: on line2 its own
+  // position alone. A master ending inside the last facet (x = 0.8), line2 and line3.
   for (int order : {1, 2}) {
+    const int ns = order + 1;
+    const mortar_detail::BasisTransform tr = mortar_detail::basis_transform(2, ns, true);
+    MatX T = MatX::Identity(ns, ns);
+    if (!tr.identity)
+      for (int i = 0; i < ns; ++i)
+        for (int l = 0; l < ns; ++l) T(i, l) = tr.t[i][l];
+    const MatX Tinv = T.inverse();
     TwoCurves c(4, 7, 0.0, flat, below, order, -1.6, 0.8);
     std::vector<Index> all(static_cast<size_t>(c.master.size()));
     for (Index m = 0; m < c.master.size(); ++m) all[m] = m;
@@ -253,6 +265,14 @@ TEST(Mortar, SlipCombinationMeasuresTheRelativeMotion) {
         EXPECT_NEAR(now.y() / W, 0.01, 1e-14) << order;
         EXPECT_NEAR(after.x() / W, -0.03, 1e-14) << order;
         EXPECT_NEAR(after.y() / W, 0.01, 1e-14) << order;
+        for (size_t a = 0; a < r.nodes.size(); ++a) {
+          if (r.nodes[a] >= first_master) continue;
+          const auto& f = c.slave.facets[e];
+          const auto it = std::find(f.begin(), f.end(), r.nodes[a]);
+          const Real expected = it == f.end() ? 0.0 : Tinv(it - f.begin(), static_cast<Index>(k));
+          EXPECT_NEAR(r.relative[k](static_cast<Index>(a)) / W, expected, 1e-12)
+              << "order " << order << " facet " << e << " node " << k << " slave node " << r.nodes[a];
+        }
       }
     }
   }

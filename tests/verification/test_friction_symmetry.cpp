@@ -15,6 +15,7 @@
 // friction): a traction that reaches the rim at the centre of the contact is the artefact itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -87,6 +88,12 @@ std::string case_name(const ::testing::TestParamInfo<SymmetryCase>& i) {
 // segment_to_segment 10), and CalculiX's contact force to 0.3 % (its frictionless
 // surface-to-surface run on the same mesh: friction between similar materials leaves the normal
 // problem nearly unchanged; measured 581.4-581.6 N against 580.6 N).
+// Mortar's slip weighted with the dual basis (mortar_dual.hpp, dual_slip_weights; since session
+// 61): at most 12 iterations with mortar, at mu 0.1 as well (measured 7-8; with the N~ weights
+// before, 15 at mu 0.3 and 0.8, and 33 with a cutback at mu 0.1, where stick/slip cycled), and
+// the tangential traction of the closed nodes off the planes within 0.7 of the contact radius,
+// about 0 exactly, at most 0.05 p in root mean square with mortar (measured 0.014-0.028; 0.16 at
+// mu 0.3 and 0.24 at mu 0.8 with the N~ weights) and 0.1 p with segment_to_segment (0.047).
 class FrictionalHertzQuarter3D : public ::testing::TestWithParam<SymmetryCase> {};
 
 TEST_P(FrictionalHertzQuarter3D, SymmetryPlanesCarryNoTractionAcrossThem) {
@@ -97,7 +104,7 @@ TEST_P(FrictionalHertzQuarter3D, SymmetryPlanesCarryNoTractionAcrossThem) {
   ASSERT_EQ(r.summary.increments.size(), 1u) << disc << ": the press in one increment";
   const IncrementRecord& inc = r.summary.increments[0];
   EXPECT_EQ(inc.cutbacks, 0) << disc;
-  EXPECT_LE(inc.iterations, 20) << disc;
+  EXPECT_LE(inc.iterations, disc == "mortar" ? 12 : 20) << disc;
   ASSERT_FALSE(inc.contact.empty());
   EXPECT_NEAR(inc.contact[0].force.z(), 580.6, 0.003 * 580.6) << disc << ": CalculiX's force on the quarter";
   int on_plane = 0;
@@ -109,14 +116,29 @@ TEST_P(FrictionalHertzQuarter3D, SymmetryPlanesCarryNoTractionAcrossThem) {
             << disc << ": node at (" << r.position[j].transpose() << "), traction " << r.traction[j].transpose();
       }
   EXPECT_GE(on_plane, 10) << disc << ": closed nodes on the symmetry planes";
-  std::printf("%s, mu %.1f: %d Newton iterations, %ld closed (%ld sticking), %d node-plane pairs, F_z %.2f\n",
+  Real radius = 0;
+  for (const Vec3& p : r.position) radius = std::max(radius, std::hypot(p.x(), p.y()));
+  Real sum = 0;
+  int interior = 0;
+  for (size_t j = 0; j < r.position.size(); ++j) {
+    const Vec3& p = r.position[j];
+    if (std::abs(p.x()) < 1e-6 || std::abs(p.y()) < 1e-6 || std::hypot(p.x(), p.y()) > 0.7 * radius) continue;
+    const Real ratio = r.traction[j].head<2>().norm() / r.pressure[j];
+    sum += ratio * ratio;
+    ++interior;
+  }
+  ASSERT_GE(interior, 20) << disc << ": closed nodes off the planes within 0.7 of the contact radius";
+  const Real rms = std::sqrt(sum / interior);
+  EXPECT_LE(rms, disc == "mortar" ? 0.05 : 0.1) << disc << ": root mean square of |t_T| / p in the stick zone";
+  std::printf("%s, mu %.1f: %d Newton iterations, %ld closed (%ld sticking), %d node-plane pairs, F_z %.2f, "
+              "|t_T| / p at %d interior nodes: rms %.4f\n",
               disc.c_str(), mu, inc.iterations, static_cast<long>(inc.contact[0].active),
-              static_cast<long>(inc.contact[0].sticking), on_plane, inc.contact[0].force.z());
+              static_cast<long>(inc.contact[0].sticking), on_plane, inc.contact[0].force.z(), interior, rms);
 }
 
 INSTANTIATE_TEST_SUITE_P(Discretizations, FrictionalHertzQuarter3D,
-                         ::testing::Values(SymmetryCase{"mortar", 0.3}, SymmetryCase{"mortar", 0.8},
-                                           SymmetryCase{"segment_to_segment", 0.3}),
+                         ::testing::Values(SymmetryCase{"mortar", 0.1}, SymmetryCase{"mortar", 0.3},
+                                           SymmetryCase{"mortar", 0.8}, SymmetryCase{"segment_to_segment", 0.3}),
                          case_name);
 
 // The plane-strain Hertz half model (examples/hertz_cylinder_mortar: quad9, the block's top as

@@ -461,6 +461,7 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   std::vector<SegmentPoint> points;
   std::vector<VecX> relative(ns);
   std::vector<Real> slip_weight(ns, 0.0);
+  const BasisTransform tr = basis_transform(2, ns, positive_basis);
   for (Index m : masters) {
     const Layout L = make_layout(slave, e, master, m, nodes);
     std::vector<Vec3> xl(nodes.size());
@@ -475,7 +476,11 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
     cover += c;
     for (int i = 0; i < nu; ++i) u[i] += us[i];
     // Friction's relative positions: per slave facet node k, sum_q N~_k(xi_q) w_q (x_s(xi_q) -
-    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q.
+    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q (N~ >= 0: the
+    // transformed basis on line3), turned into the weights of N~'s dual basis once the facet's
+    // integrals are summed (dual_slip_weights; its weights int N~_j dA stay positive, where those
+    // of N's dual basis, the normal's on line3 but in self-contact, may not on a partly covered
+    // facet).
     std::vector<int> at(nodes.size());
     for (size_t i = 0; i < nodes.size(); ++i) {
       auto it = std::find(r.nodes.begin(), r.nodes.end(), nodes[i]);
@@ -520,13 +525,14 @@ MortarFacetResult mortar_element_2d(const MasterSurface& slave, Index e, const M
   }
   r.overlap = true;
   Real gap[3];
-  dual_weighted_gaps(ns, u, basis_transform(2, ns, positive_basis), gap);
+  dual_weighted_gaps(ns, u, tr, gap);
   r.gap.assign(gap, gap + ns);
+  dual_slip_weights(ns, u, basis_transform(2, ns, true), relative, slip_weight);
   r.relative = std::move(relative);
   r.slip_weight = std::move(slip_weight);
   if (!derivatives) return r;
 
-  mortar_detail::weighted_gap_derivatives(2, ns, u, basis_transform(2, ns, positive_basis), segments, r);
+  mortar_detail::weighted_gap_derivatives(2, ns, u, tr, segments, r);
   return r;
 }
 

@@ -698,8 +698,9 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
       }
     }
     // Friction's relative positions: per slave facet node k, sum_q N~_k(xi_q) w_q (x_s(xi_q) -
-    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q (N~ >= 0: N itself
-    // on tri3 and quad4, basis_transform's on quadratic facets), as in 2D.
+    // x_m(eta_q)) as coefficients of the nodes, and its weight sum_q N~_k w_q (N~: N itself on
+    // tri3 and quad4, basis_transform's on quadratic facets), turned into the dual basis's once
+    // the facet's integrals are summed (dual_slip_weights), as in 2D.
     for (const CellSample& q : points)
       for (int k = 0; k < ns; ++k) {
         Real nt = q.N[k];
@@ -726,6 +727,7 @@ MortarFacetResult mortar_element_3d(const MasterSurface& slave, Index e, const M
   Real gap[kMaxNs];
   dual_weighted_gaps(ns, u, tr, gap);
   r.gap.assign(gap, gap + ns);
+  dual_slip_weights(ns, u, tr, relative, slip_weight);
   r.relative = std::move(relative);
   r.slip_weight = std::move(slip_weight);
   if (derivatives) weighted_gap_derivatives(3, ns, u, tr, cells, r);
