@@ -318,6 +318,31 @@ TEST(CondensedSolve, FrictionBlocksRefuseANodeWithoutDofsOfItsOwn) {
   VecX dz;
   EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
   EXPECT_NE(solver.why_not().find("of their own"), std::string::npos) << solver.why_not();
+  EXPECT_EQ(solver.block_analyses(), 1);
+  // Refused blocks are not analysed again at once: the next 1, 2, 4, ... solves after each
+  // refusal in a row go whole, with the refusal's reason, and a system the analysis accepts
+  // resets the count.
+  const std::string why = solver.why_not();
+  int analyses = 1;
+  for (int refusal = 1; refusal <= 3; ++refusal) {
+    for (int skipped = 0; skipped < (1 << (refusal - 1)); ++skipped) {
+      EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+      EXPECT_EQ(solver.why_not(), why);
+      EXPECT_EQ(solver.block_analyses(), analyses) << "refusal " << refusal << ", skipped solve " << skipped;
+    }
+    EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+    EXPECT_EQ(solver.block_analyses(), ++analyses) << "after refusal " << refusal;
+  }
+  const Saddle good = make_friction_system(2, {Slip::stick, Slip::stick});
+  for (int skipped = 0; skipped < 8; ++skipped) EXPECT_FALSE(solver.solve(good.J, good.is_multiplier, true, good.r, dz));
+  EXPECT_TRUE(solver.solve(good.J, good.is_multiplier, true, good.r, dz)) << solver.why_not();
+  EXPECT_EQ(solver.block_analyses(), analyses + 1);
+  // Refused once more: one solve skipped (the count was reset).
+  EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+  EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+  EXPECT_EQ(solver.block_analyses(), analyses + 2);
+  EXPECT_FALSE(solver.solve(s.J, s.is_multiplier, true, s.r, dz));
+  EXPECT_EQ(solver.block_analyses(), analyses + 3);
 }
 
 }  // namespace

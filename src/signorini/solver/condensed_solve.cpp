@@ -380,6 +380,11 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                "iterative_above, or linear: gamg)";
     return false;
   }
+  if (blocks_skip_ > 0) {
+    --blocks_skip_;
+    why_not_ = blocks_why_not_;
+    return false;
+  }
   // The multipliers' rows and columns with their stored zeros: a sticking node's normal and
   // tangential multipliers are coupled in the pattern only, and the reduced pattern is to
   // follow J's pattern and the pivots, not the values.
@@ -389,13 +394,21 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
       if (slot[it.row()] >= 0) rows[slot[it.row()]].emplace_back(col, it.value());
       else if (slot[col] >= 0) cols[slot[col]].emplace_back(it.row(), it.value());
     }
+  ++block_analyses_;
   const MultiplierBlocks mb = analyse_multiplier_blocks(n, is_multiplier, mult, rows, cols);
   decltype(rows)().swap(rows);
   decltype(cols)().swap(cols);
   if (!mb.why_not.empty()) {
-    why_not_ = mb.why_not;
+    // Refused blocks are refused again at the next iterations as a rule (mortar's friction: its
+    // rows share the slave nodes' DOFs; the analysis was an eighth of the tet10 Hertz quarter's
+    // run, at every Newton iteration): the whole system for the next 1, 2, 4, ... solves after
+    // each refusal in a row, as after a failed refinement of coupled rows (coupled_skip_).
+    why_not_ = blocks_why_not_ = mb.why_not;
+    blocks_skip_ = blocks_backoff_;
+    blocks_backoff_ = std::min(2 * blocks_backoff_, 64);
     return false;
   }
+  blocks_backoff_ = 1;
   const std::vector<Index>& pivot_of = mb.pivot_of;
   SparseMatrix Delta(n, n);
   {

@@ -55,6 +55,9 @@ class CondensedContactSolver {
     return (refinements_ > 0 ? "gmres on the coupled rows over " : "") + solver_.last_method();
   }
   std::string why_not() const { return why_not_; }
+  // How many times friction's multiplier blocks were analysed (solve_blocks; skipped after a
+  // refusal, see blocks_skip_).
+  int block_analyses() const { return block_analyses_; }
   // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
   int analyses() const { return analyses_; }
   // Refinement steps of the last solve (coupled rows; 0 when the elimination is exact).
@@ -91,6 +94,9 @@ class CondensedContactSolver {
   int refinements_ = 0;
   int iterations_ = 0;
   int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
+  int blocks_skip_ = 0, blocks_backoff_ = 1;    // after friction's blocks were refused (solve_blocks)
+  std::string blocks_why_not_;
+  int block_analyses_ = 0;
   bool blocks_always_ = false;
 };
 
