@@ -4,6 +4,8 @@
 // weighted gaps are on quadratic facets (elimination of P, then GMRES on J).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <Eigen/Dense>
 
 #include "signorini/solver/condensed_solve.hpp"
@@ -302,6 +304,45 @@ TEST(CondensedSolve, NodesBarelySlippingAreRefinedToTheWholeSystemsStep) {
   ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
   EXPECT_GT(solver.refinements(), 0);
   EXPECT_LT(error_against_dense(s, dz), 1e-9);
+}
+
+TEST(CondensedSolve, FrictionBlocksOnSharedDofsAreRefinedToTheWholeSystemsStep) {
+  // Mortar's friction: a node's weighted gap row also sees its facets' other slave nodes, so no
+  // block has DOFs of its own. Each node's gap row and multiplier column here reach its
+  // neighbours' slave and master DOFs too; the coupled pass takes each block's own slave DOFs as its pivots,
+  // leaves the other blocks' entries there out of T and Z, and flexible GMRES on J brings the
+  // step back to the whole system's. Stick, slip and mixed, 2D and 3D.
+  using S = Slip;
+  for (int dim : {2, 3})
+    for (const std::vector<Slip>& states : {std::vector<Slip>{S::stick, S::stick, S::stick, S::stick},
+                                            std::vector<Slip>{S::stick, S::slip, S::stick, S::slip}}) {
+      Saddle s = make_friction_system(dim, states);
+      const Index nc = static_cast<Index>(states.size()), nodes = 12 + nc, nu = nodes * dim, first_slave = 12;
+      // Node j's slave node and its two master nodes (make_friction_system's layout).
+      auto node_dofs = [&](Index j) {
+        std::vector<Index> v;
+        for (Index node : {first_slave + j, (2 * j) % first_slave, (2 * j + 1) % first_slave})
+          for (int d = 0; d < dim; ++d) v.push_back(node * dim + d);
+        return v;
+      };
+      for (Index j = 0; j < nc; ++j)
+        for (Index o : {j - 1, j + 1}) {  // every DOF of a node is touched by a neighbour's rows too
+          if (o < 0 || o >= nc) continue;
+          const std::vector<Index> dofs = node_dofs(o);
+          for (size_t c = 0; c < dofs.size(); ++c) {
+            s.J.coeffRef(nu + j, dofs[c]) += 0.3 * std::cos(1.1 * static_cast<Real>(c + j));
+            s.J.coeffRef(dofs[c], nu + j) -= 0.2 * std::sin(0.7 * static_cast<Real>(c) + 0.4);
+          }
+        }
+      s.J.makeCompressed();
+      CondensedContactSolver solver(false);  // a factorization
+      solver.set_condense_blocks_always(true);
+      VecX dz;
+      ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << dim << "D: " << solver.why_not();
+      EXPECT_GT(solver.refinements(), 0) << dim << "D";
+      EXPECT_LT(error_against_dense(s, dz), 1e-9) << dim << "D";
+      std::printf("%dD: %d GMRES steps\n", dim, solver.refinements());
+    }
 }
 
 TEST(CondensedSolve, FrictionBlocksRefuseANodeWithoutDofsOfItsOwn) {

@@ -124,6 +124,39 @@ TEST(Petsc, GamgTakesLagrangeFrictionCondensed) {
               c.summary.total_iterations, d.summary.total_iterations, e.summary.total_iterations);
 }
 
+TEST(Petsc, GamgTakesMortarFrictionCondensedOnSharedDofs) {
+  if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
+  // Mortar with Coulomb friction (examples/hertz_sphere_3d, tet4 quarter, mu 0.3): a node's
+  // weighted gap and slip rows also see its facets' other nodes, so no block of multipliers has
+  // DOFs of its own; the coupled pass of the block analysis (multiplier_blocks.cpp) takes each
+  // block's best DOFs anyway, leaves the other blocks' entries there out of the elimination,
+  // and flexible GMRES on J corrects the step (until session 61 `gamg` stopped here and `auto`
+  // factorized the whole system). Against the whole system factorized (condense_contact:
+  // false): the same answer to 1e-6 and the Newton iterations within one, with `gamg` and with
+  // `auto`, which takes the same path in 3D.
+  const std::vector<std::pair<std::string, std::string>> mortar = {
+      {"    slave: SphereSurface\n",
+       "    slave: SphereSurface\n    discretization: mortar\n    friction: {law: coulomb, mu: 0.3}\n"}};
+  const test::HertzRun a = test::run_deck_text(
+      example_deck("hertz_sphere_3d", "solver: {condense_contact: false}\n", mortar), "mortar_friction_whole");
+  const test::HertzRun b = test::run_deck_text(
+      example_deck("hertz_sphere_3d", "solver: {linear: {type: gamg, rtol: 1e-10}}\n", mortar), "mortar_friction_gamg");
+  const test::HertzRun c = test::run_deck_text(example_deck("hertz_sphere_3d", "", mortar), "mortar_friction_auto");
+  ASSERT_TRUE(a.summary.completed && b.summary.completed && c.summary.completed)
+      << b.summary.failure << " / " << c.summary.failure;
+  EXPECT_EQ(b.summary.increments.back().linear_solver, "condensed+gamg");
+  EXPECT_EQ(c.summary.increments.back().linear_solver, "condensed+gamg");
+  expect_same_checks(a, b, 1e-6, "hertz_sphere_3d mortar coulomb gamg");
+  expect_same_checks(a, c, 1e-6, "hertz_sphere_3d mortar coulomb auto");
+  EXPECT_LE(std::abs(b.summary.total_iterations - a.summary.total_iterations), 1);
+  EXPECT_LE(std::abs(c.summary.total_iterations - a.summary.total_iterations), 1);
+  EXPECT_GT(max_krylov(b.summary), 0);
+  std::printf("hertz_sphere_3d mortar coulomb: whole %s %d, condensed gamg %d (at most %d Krylov iterations per "
+              "solve), auto %d Newton iterations\n",
+              a.summary.increments.back().linear_solver.c_str(), a.summary.total_iterations,
+              b.summary.total_iterations, max_krylov(b.summary), c.summary.total_iterations);
+}
+
 TEST(Petsc, AutoTakesPenaltyFrictionToGmresOverGamgAndFallsBackToLu) {
   if (!petsc_available()) GTEST_SKIP() << "built without PETSc";
   // Friction by the penalty (examples/cattaneo_sphere_3d as shipped, a coarser mesh): the

@@ -479,10 +479,9 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                                                outer * rnorm, kMaxRefinements);
   refinements_ = g.steps;
   if (g.residual <= std::max(kRefinementAccepted, 2 * outer) * rnorm) return true;
-  why_not_ = fmt::format(
-      "a node barely slipping: GMRES on the condensed preconditioner stalls at {:.1e} of the right-hand side after {} "
-      "steps",
-      g.residual / rnorm, g.steps);
+  why_not_ = fmt::format("{}: GMRES on the condensed preconditioner stalls at {:.1e} of the right-hand side after {} steps",
+                         mb.coupled ? "friction's blocks on shared DOFs (mortar)" : "a node barely slipping",
+                         g.residual / rnorm, g.steps);
   return false;
 }
 

@@ -89,99 +89,137 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
     for (Index i = 0; i < b.Bt.rows(); ++i)
       if (b.Bt.row(i).cwiseAbs().maxCoeff() > 0) ++acting[b.bu[i]];
   }
-  // Pivots: per block with closed rows, k DOFs that no other block's closed rows touch and on
-  // whose rows no other block's multipliers act, chosen among those subsets (a node's few DOFs)
-  // for the best conditioned C~_P and B~_P.
-  mb.pivot_of.assign(static_cast<size_t>(n), -1);
-  for (size_t bi = 0; bi < blocks.size(); ++bi) {
-    MultiplierBlock& b = blocks[bi];
-    int k = static_cast<int>(b.Ct.rows());
-    if (k == 0) continue;
-    std::vector<int> cand;  // places in cu
-    for (int j = 0; j < static_cast<int>(b.cu.size()); ++j) {
-      const Index d = b.cu[j];
-      if (count[d] != 1 || acting[d] != 1 || !(b.Ct.col(j).cwiseAbs().maxCoeff() > 0)) continue;
-      const int pb = place(b.bu, d);  // this block's multipliers must act on the DOF's row
-      if (pb < static_cast<int>(b.bu.size()) && b.bu[pb] == d && b.Bt.row(pb).cwiseAbs().maxCoeff() > 0)
-        cand.push_back(j);
-    }
-    if (cand.empty()) {
-      mb.why_not = "a node's closed constraints have no DOF of their own (two-pass, or a slave node that is also a "
-                   "master node)";
-      return mb;
-    }
-    // Dependent closed rows (the whole system singular but for round-off): on a symmetry axis a
-    // slave node and its master node move along the axis only, and while the master facet is
-    // tilted (the first iterations of a press) the stick row across the slip is a multiple of
-    // the gap row, the multipliers' columns likewise (the enforcement releases such directions
-    // once the normal is the axis, prescribed_slip_directions). The dependent combinations of the
-    // rows, and of the multipliers, are released: not eliminated, their multipliers' step zero,
-    // where a factorization of the whole system divides by round-off.
-    if (k > 1) {
-      Eigen::JacobiSVD<MatX> sc(b.Ct, Eigen::ComputeFullU), sb(b.Bt, Eigen::ComputeFullV);
-      auto rank_of = [&](const VecX& sv) {
-        int q = 0;
-        while (q < sv.size() && sv(q) > kDependentRows * sv(0)) ++q;
-        return q;
-      };
-      const int kr = std::min(rank_of(sc.singularValues()), rank_of(sb.singularValues()));
-      if (kr < k) {
-        mb.released += k - kr;
-        const MatX uc = sc.matrixU().leftCols(kr), vb = sb.matrixV().leftCols(kr);
-        b.U0t = (uc.transpose() * b.U0t).eval();
-        b.Ct = (uc.transpose() * b.Ct).eval();
-        b.V0 = (b.V0 * vb).eval();
-        b.Bt = (b.Bt * vb).eval();
-        k = kr;
-      }
-    }
-    if (k == 0) continue;
-    const Real cmax = b.Ct.cwiseAbs().maxCoeff(), bmax = b.Bt.cwiseAbs().maxCoeff();
-    // The candidates ranked by their column of C~ and row of B~ (the slave node's DOFs first,
-    // as a rule: their coefficients are 1 where a master node's are its shape function), the
-    // best kPivotCandidates kept: a node alone on a quad8 master facet has 27 (C(27, 3) subsets).
-    if (static_cast<int>(cand.size()) > kPivotCandidates) {
-      std::vector<std::pair<Real, int>> scored;
-      for (int j : cand)
-        scored.emplace_back(std::min(b.Ct.col(j).norm() / cmax, b.Bt.row(place(b.bu, b.cu[j])).norm() / bmax), j);
-      std::stable_sort(scored.begin(), scored.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-      cand.clear();
-      for (int c = 0; c < kPivotCandidates; ++c) cand.push_back(scored[static_cast<size_t>(c)].second);
-    }
-    Real best = 0;
-    std::vector<int> pick(static_cast<size_t>(k)), chosen;
-    std::function<void(int, int)> subsets = [&](int from, int depth) {
-      if (depth == k) {
-        MatX cp(k, k), bp(k, k);
-        for (int a = 0; a < k; ++a) {
-          cp.col(a) = b.Ct.col(cand[pick[a]]);
-          bp.row(a) = b.Bt.row(place(b.bu, b.cu[cand[pick[a]]]));
-        }
-        Eigen::JacobiSVD<MatX> sc(cp), sb(bp);
-        const Real q = std::min(sc.singularValues()(k - 1) / cmax, sb.singularValues()(k - 1) / bmax);
-        if (q > best) best = q, chosen.assign(pick.begin(), pick.end());
-        return;
-      }
-      for (int c = from; c < static_cast<int>(cand.size()); ++c) {
-        pick[depth] = c;
-        subsets(c + 1, depth + 1);
-      }
+  // Dependent closed rows (the whole system singular but for round-off): on a symmetry axis a
+  // slave node and its master node move along the axis only, and while the master facet is
+  // tilted (the first iterations of a press) the stick row across the slip is a multiple of
+  // the gap row, the multipliers' columns likewise (the enforcement releases such directions
+  // once the normal is the axis, prescribed_slip_directions). The dependent combinations of the
+  // rows, and of the multipliers, are released: not eliminated, their multipliers' step zero,
+  // where a factorization of the whole system divides by round-off.
+  for (MultiplierBlock& b : blocks) {
+    const int k = static_cast<int>(b.Ct.rows());
+    if (k <= 1) continue;
+    Eigen::JacobiSVD<MatX> sc(b.Ct, Eigen::ComputeFullU), sb(b.Bt, Eigen::ComputeFullV);
+    auto rank_of = [&](const VecX& sv) {
+      int q = 0;
+      while (q < sv.size() && sv(q) > kDependentRows * sv(0)) ++q;
+      return q;
     };
-    if (static_cast<int>(cand.size()) >= k) subsets(0, 0);
-    if (best < kPivotQuality) {
-      mb.why_not = static_cast<int>(cand.size()) < k
-                       ? "a node's closed constraints have too few DOFs of their own (two-pass, or a slave node that "
-                         "is also a master node)"
-                       : "a node's closed constraints have no well-conditioned block of DOFs of their own";
+    const int kr = std::min(rank_of(sc.singularValues()), rank_of(sb.singularValues()));
+    if (kr < k) {
+      mb.released += k - kr;
+      const MatX uc = sc.matrixU().leftCols(kr), vb = sb.matrixV().leftCols(kr);
+      b.U0t = (uc.transpose() * b.U0t).eval();
+      b.Ct = (uc.transpose() * b.Ct).eval();
+      b.V0 = (b.V0 * vb).eval();
+      b.Bt = (b.Bt * vb).eval();
+    }
+  }
+  // Pivots: per block with closed rows, k DOFs chosen for the best conditioned C~_P and B~_P
+  // among its candidates (the 8 best ranked by their column of C~ and row of B~: the slave
+  // node's DOFs first, as a rule, whose coefficients are 1 where a master node's are its shape
+  // function; a node alone on a quad8 master facet has 27, C(27, 3) subsets). Exclusive pass: the
+  // candidates are DOFs that no other block's closed rows touch and on whose rows only the
+  // block's own multipliers act, and the elimination is exact. Coupled pass, where a block has
+  // none (mortar's friction: a node's weighted gap and slip rows also see its facets' other
+  // nodes): any DOF of the block not yet another block's pivot, and the other blocks' entries at
+  // a block's pivots (their C~ columns and B~ rows there) are left out of T and Z, so that the
+  // elimination is that of a nearby matrix (`approximate`: flexible GMRES on J corrects it, as
+  // for the coupled rows of the frictionless condensation).
+  auto choose = [&](bool coupled) -> std::string {
+    mb.pivot_of.assign(static_cast<size_t>(n), -1);
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      MultiplierBlock& b = blocks[bi];
+      b.pivot.clear();
+      const int k = static_cast<int>(b.Ct.rows());
+      if (k == 0) continue;
+      std::vector<int> cand;  // places in cu
+      for (int j = 0; j < static_cast<int>(b.cu.size()); ++j) {
+        const Index d = b.cu[j];
+        if (!(b.Ct.col(j).cwiseAbs().maxCoeff() > 0)) continue;
+        if (coupled ? mb.pivot_of[d] >= 0 : (count[d] != 1 || acting[d] != 1)) continue;
+        const int pb = place(b.bu, d);  // this block's multipliers must act on the DOF's row
+        if (pb < static_cast<int>(b.bu.size()) && b.bu[pb] == d && b.Bt.row(pb).cwiseAbs().maxCoeff() > 0)
+          cand.push_back(j);
+      }
+      if (cand.empty())
+        return "a node's closed constraints have no DOF of their own (two-pass, or a slave node that is also a "
+               "master node)";
+      // In the coupled pass the closed rows of C~ and the columns of B~ are measured at unit norm:
+      // mortar's gap rows (c w) and stick rows (c_T w) are orders apart, and scaling them changes
+      // neither T_P nor Z_P.
+      MatX Cs = b.Ct, Bs = b.Bt;
+      if (coupled) {
+        for (Index a = 0; a < Cs.rows(); ++a)
+          if (const Real q = Cs.row(a).norm(); q > 0) Cs.row(a) /= q;
+        for (Index a = 0; a < Bs.cols(); ++a)
+          if (const Real q = Bs.col(a).norm(); q > 0) Bs.col(a) /= q;
+      }
+      const Real cmax = Cs.cwiseAbs().maxCoeff(), bmax = Bs.cwiseAbs().maxCoeff();
+      if (static_cast<int>(cand.size()) > kPivotCandidates) {
+        std::vector<std::pair<Real, int>> scored;
+        for (int j : cand)
+          scored.emplace_back(std::min(Cs.col(j).norm() / cmax, Bs.row(place(b.bu, b.cu[j])).norm() / bmax), j);
+        std::stable_sort(scored.begin(), scored.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+        cand.clear();
+        for (int c = 0; c < kPivotCandidates; ++c) cand.push_back(scored[static_cast<size_t>(c)].second);
+      }
+      Real best = 0;
+      std::vector<int> pick(static_cast<size_t>(k)), chosen;
+      std::function<void(int, int)> subsets = [&](int from, int depth) {
+        if (depth == k) {
+          MatX cp(k, k), bp(k, k);
+          for (int a = 0; a < k; ++a) {
+            cp.col(a) = Cs.col(cand[pick[a]]);
+            bp.row(a) = Bs.row(place(b.bu, b.cu[cand[pick[a]]]));
+          }
+          Eigen::JacobiSVD<MatX> sc(cp), sb(bp);
+          const Real q = std::min(sc.singularValues()(k - 1) / cmax, sb.singularValues()(k - 1) / bmax);
+          if (q > best) best = q, chosen.assign(pick.begin(), pick.end());
+          return;
+        }
+        for (int c = from; c < static_cast<int>(cand.size()); ++c) {
+          pick[depth] = c;
+          subsets(c + 1, depth + 1);
+        }
+      };
+      if (static_cast<int>(cand.size()) >= k) subsets(0, 0);
+      if (best < kPivotQuality)
+        return static_cast<int>(cand.size()) < k
+                   ? "a node's closed constraints have too few DOFs of their own (two-pass, or a slave node that is "
+                     "also a master node)"
+                   : "a node's closed constraints have no well-conditioned block of DOFs of their own";
+      for (int a = 0; a < k; ++a) {
+        b.pivot.push_back(b.cu[cand[chosen[a]]]);
+        mb.pivot_of[b.pivot.back()] = static_cast<Index>(bi);
+      }
+    }
+    return std::string();
+  };
+  std::string why = choose(false);
+  if (!why.empty()) {
+    const std::string coupled_why = choose(true);
+    if (!coupled_why.empty()) {
+      mb.why_not = why + "; on DOFs shared among the blocks, " + coupled_why.substr(coupled_why.find(' ') + 1);
       return mb;
     }
+    mb.coupled = mb.approximate = true;
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      MultiplierBlock& b = blocks[bi];
+      if (b.pivot.empty()) continue;
+      for (size_t j = 0; j < b.cu.size(); ++j)
+        if (const Index o = mb.pivot_of[b.cu[j]]; o >= 0 && o != static_cast<Index>(bi)) b.Ct.col(static_cast<Index>(j)).setZero();
+      for (size_t i = 0; i < b.bu.size(); ++i)
+        if (const Index o = mb.pivot_of[b.bu[i]]; o >= 0 && o != static_cast<Index>(bi)) b.Bt.row(static_cast<Index>(i)).setZero();
+    }
+  }
+  for (MultiplierBlock& b : blocks) {
+    const int k = static_cast<int>(b.pivot.size());
+    if (k == 0) continue;
     MatX cp(k, k), bp(k, k);
     for (int a = 0; a < k; ++a) {
-      const int j = cand[chosen[a]];
-      b.pivot.push_back(b.cu[j]);
-      cp.col(a) = b.Ct.col(j);
-      bp.row(a) = b.Bt.row(place(b.bu, b.cu[j]));
-      mb.pivot_of[b.cu[j]] = static_cast<Index>(bi);
+      cp.col(a) = b.Ct.col(place(b.cu, b.pivot[a]));
+      bp.row(a) = b.Bt.row(place(b.bu, b.pivot[a]));
     }
     b.CtP.compute(cp);
     b.BtP.compute(bp);

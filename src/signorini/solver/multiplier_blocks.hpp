@@ -54,6 +54,7 @@ struct MultiplierBlocks {
   // Delta's entries (row, column, value), stored zeros included (the pattern follows J's).
   std::vector<std::pair<std::pair<Index, Index>, Real>> delta;
   bool approximate = false;  // a clamped singular value: the elimination is a nearby matrix's
+  bool coupled = false;      // pivots shared with other blocks' rows (approximate too)
   int released = 0;          // closed rows released as dependent on their node's DOFs
   std::string why_not;       // empty when the blocks could be set up
 };
