@@ -89,8 +89,12 @@ std::string case_name(const ::testing::TestParamInfo<SymmetryCase>& i) {
 // surface-to-surface run on the same mesh: friction between similar materials leaves the normal
 // problem nearly unchanged; measured 581.4-581.6 N against 580.6 N).
 // Mortar's slip weighted with the dual basis (mortar_dual.hpp, dual_slip_weights; since session
-// 61): at most 12 iterations with mortar, at mu 0.1 as well (measured 7-8; with the N~ weights
-// before, 15 at mu 0.3 and 0.8, and 33 with a cutback at mu 0.1, where stick/slip cycled), and
+// 61): at most 15 iterations with mortar, at mu 0.1 as well (measured with a factorization of
+// the whole system 7-8; with `auto`'s GMRES over GAMG on the condensed blocks, since session 61,
+// 7 at mu 0.3 and 13 at mu 0.8, where an inexact step takes another path to a node at the
+// contact's edge that opens and closes in turn until the chattering guard holds it; with the N~
+// weights before, 15 at mu 0.3 and 0.8, and 33 with a cutback at mu 0.1, where stick/slip
+// cycled), and
 // the tangential traction of the closed nodes off the planes within 0.7 of the contact radius,
 // about 0 exactly, at most 0.05 p in root mean square with mortar (measured 0.014-0.028; 0.16 at
 // mu 0.3 and 0.24 at mu 0.8 with the N~ weights) and 0.1 p with segment_to_segment (0.047).
@@ -104,7 +108,7 @@ TEST_P(FrictionalHertzQuarter3D, SymmetryPlanesCarryNoTractionAcrossThem) {
   ASSERT_EQ(r.summary.increments.size(), 1u) << disc << ": the press in one increment";
   const IncrementRecord& inc = r.summary.increments[0];
   EXPECT_EQ(inc.cutbacks, 0) << disc;
-  EXPECT_LE(inc.iterations, disc == "mortar" ? 12 : 20) << disc;
+  EXPECT_LE(inc.iterations, disc == "mortar" ? 15 : 20) << disc;
   ASSERT_FALSE(inc.contact.empty());
   EXPECT_NEAR(inc.contact[0].force.z(), 580.6, 0.003 * 580.6) << disc << ": CalculiX's force on the quarter";
   int on_plane = 0;
