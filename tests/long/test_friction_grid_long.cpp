@@ -4,11 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "deck_text.hpp"
 #include "friction_grid.hpp"
 
 using namespace signorini;
@@ -42,17 +40,8 @@ INSTANTIATE_TEST_SUITE_P(Fine, LongFrictionGrid, ::testing::ValuesIn(fine_grid()
 // iterations over 9 increments, no cutback (170 s on the 2-core machine). Asserted: the
 // tolerances, no cutback, at most 6 iterations per increment on average.
 TEST(LongFriction3D, CattaneoSphereWithMortarMatchesCattaneoMindlin) {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / "cattaneo_sphere_3d";
-  std::ifstream in(dir / "cattaneo_sphere_3d.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string deck = ss.str();
-  const std::string mesh = "file: cattaneo_sphere_3d.geo", method = "enforcement: {method: penalty}";
-  ASSERT_NE(deck.find(mesh), std::string::npos);
-  ASSERT_NE(deck.find(method), std::string::npos);
-  deck.replace(deck.find(mesh), mesh.size(), "file: " + (dir / "cattaneo_sphere_3d.geo").string());
-  deck.replace(deck.find(method), method.size(), "discretization: mortar");
+  std::string deck = test::example_deck_text("cattaneo_sphere_3d");
+  test::replace_in_text(deck, "enforcement: {method: penalty}", "discretization: mortar");
   const test::HertzRun r = test::run_deck_text(deck, "cattaneo_sphere_mortar");
   ASSERT_TRUE(r.summary.completed) << r.summary.failure;
   ASSERT_GE(r.checks.size(), 3u);
