@@ -408,7 +408,6 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     blocks_backoff_ = std::min(2 * blocks_backoff_, 64);
     return false;
   }
-  blocks_backoff_ = 1;
   const std::vector<Index>& pivot_of = mb.pivot_of;
   SparseMatrix Delta(n, n);
   {
@@ -472,16 +471,28 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
   log::debug("    condensed solve (friction's multiplier blocks{}): {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB",
              mb.released ? fmt::format(", {} dependent rows released", mb.released) : "", Kr.rows(), Kr.nonZeros(),
              solver_.last_used(), log::memory_mib());
-  if (!mb.approximate) return true;
-  // A clamped singular value: GMRES on J, right-preconditioned by the elimination.
+  if (!mb.approximate) {
+    blocks_backoff_ = 1;
+    return true;
+  }
+  // A clamped singular value, or blocks on shared DOFs: GMRES on J, right-preconditioned by the
+  // elimination.
   const Real rnorm = r.norm();
   const FlexibleGmresResult g = flexible_gmres([&](const VecX& v) -> VecX { return J * v; }, apply, r, dz,
                                                outer * rnorm, kMaxRefinements);
   refinements_ = g.steps;
-  if (g.residual <= std::max(kRefinementAccepted, 2 * outer) * rnorm) return true;
+  if (g.residual <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
+    blocks_backoff_ = 1;
+    return true;
+  }
   why_not_ = fmt::format("{}: GMRES on the condensed preconditioner stalls at {:.1e} of the right-hand side after {} steps",
                          mb.coupled ? "friction's blocks on shared DOFs (mortar)" : "a node barely slipping",
                          g.residual / rnorm, g.steps);
+  if (mb.coupled) {  // the same blocks next time: backed off as a refusal (a barely slipping node passes)
+    blocks_why_not_ = why_not_;
+    blocks_skip_ = blocks_backoff_;
+    blocks_backoff_ = std::min(2 * blocks_backoff_, 64);
+  }
   return false;
 }
 

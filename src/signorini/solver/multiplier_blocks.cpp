@@ -200,7 +200,7 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
   if (!why.empty()) {
     const std::string coupled_why = choose(true);
     if (!coupled_why.empty()) {
-      mb.why_not = why + "; on DOFs shared among the blocks, " + coupled_why.substr(coupled_why.find(' ') + 1);
+      mb.why_not = why + ", nor pivots shared among the blocks (" + coupled_why + ")";
       return mb;
     }
     mb.coupled = mb.approximate = true;

@@ -119,8 +119,9 @@ MatX prescribed_slip_directions(const EnforcementInput& in, const Constraint& c,
 // round-off of its facet size (kUnmovedSlip). Node-to-segment's slip is x_s - x_0 with the
 // origin x_0 taken at these positions: zero but for round-off. Mortar's and
 // segment-to-segment's nodal slips are weighted over facets and not zero at the unmoved state
-// (1.4e-4 mm on examples/sphere_drag_3d's press, about 1e-3 of a facet): their trial is not
-// the committed traction, and the return map decides.
+// (1.4e-4 mm on examples/sphere_drag_3d's press, about 1e-3 of a facet, measured with mortar's
+// slip weighted by N~ before session 61): their trial is not the committed traction, and the
+// return map decides.
 constexpr Real kUnmovedSlip = 1e-8;
 bool at_kink(const EnforcementInput& in, const Constraint& c, const NodeRecord& node) {
   return in.stick_at_kink && c.tangential_slip().norm() <= kUnmovedSlip * node.size;
