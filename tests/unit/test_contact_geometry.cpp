@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "signorini/contact/geometry/facet_projection.hpp"
+#include "signorini/contact/geometry/hyper_dual.hpp"
 #include "signorini/contact/geometry/rotation.hpp"
 #include "signorini/contact/surface.hpp"
 #include "signorini/fem/shape.hpp"
@@ -605,4 +606,50 @@ TEST(Rotation, RodriguesAndItsDerivativesMatchCentralDifferences) {
   EXPECT_LT((p.dR[0] - (rotation(&ap, 1).R - rotation(&am, 1).R) / 2e-6).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((p.d2R[0][0] - (rotation(&ap, 1).dR[0] - rotation(&am, 1).dR[0]) / 2e-6).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_EQ(p.T().col(0), Vec3::UnitZ());
+}
+
+// The hyper-dual numbers (geometry/hyper_dual.hpp) keep the upper triangle of the Hessian only
+// (since session 62). A function using every operation (products, quotients, sqrt, sums with
+// constants, negation), at N = 5 (odd: the packed rows' lengths 5, 4, ..., 1) and N = 8: its
+// gradient against central differences of the value, its Hessian against central differences
+// of the gradient, and the Hessian symmetric, hess(i, j) = hessian()(i, j).
+template <int N>
+HyperDual<N> hyper_dual_test_function(const Eigen::Matrix<Real, N, 1>& x) {
+  using HD = HyperDual<N>;
+  HD in[N];
+  for (int i = 0; i < N; ++i) in[i] = HD::input(x(i), i);
+  HD r = sqrt(in[0] * in[1] + in[2] * in[2] + 1.0) / (2.0 + in[N - 1] * in[0]);
+  for (int i = 3; i < N; ++i) r += (-in[i]) * (1.0 - in[i - 1]) / (3.0 + in[i] * in[i]);
+  HD squares = 1.0;
+  for (int i = 0; i < N; ++i) squares += in[i] * in[i];
+  return (0.5 * r - in[1] / in[2]) * sqrt(squares);  // every input coupled with every other
+}
+
+template <int N>
+void check_hyper_dual_derivatives() {
+  using V = Eigen::Matrix<Real, N, 1>;
+  V x;
+  for (int i = 0; i < N; ++i) x(i) = 0.3 + 0.17 * i - 0.05 * i * i;
+  const HyperDual<N> f = hyper_dual_test_function<N>(x);
+  const Eigen::Matrix<Real, N, N> H = f.hessian();
+  const Real step = 1e-5;
+  for (int i = 0; i < N; ++i) {
+    V xp = x, xm = x;
+    xp(i) += step;
+    xm(i) -= step;
+    const HyperDual<N> fp = hyper_dual_test_function<N>(xp), fm = hyper_dual_test_function<N>(xm);
+    EXPECT_NEAR(f.g(i), (fp.v - fm.v) / (2 * step), 1e-7 * (1 + std::abs(f.g(i)))) << "N " << N << ", d/dx" << i;
+    const V column = (fp.g - fm.g) / (2 * step);
+    for (int j = 0; j < N; ++j) {
+      EXPECT_NEAR(H(j, i), column(j), 1e-6 * (1 + std::abs(column(j)))) << "N " << N << ", H(" << j << ", " << i << ")";
+      EXPECT_EQ(H(i, j), H(j, i));
+      EXPECT_EQ(f.hess(i, j), H(i, j));
+    }
+  }
+  EXPECT_GT(H.cwiseAbs().minCoeff(), 0) << "every entry of this function's Hessian is nonzero";
+}
+
+TEST(HyperDual, PackedHessianMatchesCentralDifferencesOfTheGradient) {
+  check_hyper_dual_derivatives<5>();
+  check_hyper_dual_derivatives<8>();
 }

@@ -290,7 +290,7 @@ bool segment_derivatives(const Layout& L, const std::vector<Vec3>& xl, const Mor
   for (int k = 0; k < nu; ++k) {
     r.u[k] = u[k].v;
     r.grad[k] = u[k].g.head(2 * nl);
-    r.hess[k] = u[k].h.topLeftCorner(2 * nl, 2 * nl);
+    r.hess[k] = u[k].hessian().topLeftCorner(2 * nl, 2 * nl);
   }
   return true;
 }
@@ -392,22 +392,24 @@ void weighted_gap_derivatives_on(int dim, int ns, const Real* u, const BasisTran
         Gsum.block(dim * at[p][a], i, dim, 1) += s.grad[i].segment(dim * static_cast<Index>(a), dim);
     }
   }
+  MatX sum;
   for (int j = 0; j < ns; ++j) {
     const VecX fa = gh[j].g;
-    const MatX fab = gh[j].h;
+    const MatX fab = gh[j].hessian();
     r.grad[j] = Gsum * fa.head(nu);
     if (!hessian) continue;
     r.hess[j] = Gsum * fab.topLeftCorner(nu, nu) * Gsum.transpose();
     for (size_t p = 0; p < segments.size(); ++p) {
       const SegmentIntegrals& s = segments[p];
       const std::vector<Index>& A = at[p];
-      for (int i = 0; i < nu; ++i) {
-        if (fa(i) == 0) continue;
-        for (size_t a = 0; a < A.size(); ++a)
-          for (size_t b = 0; b < A.size(); ++b)
-            r.hess[j].block(dim * A[a], dim * A[b], dim, dim) +=
-                fa(i) * s.hess[i].block(dim * static_cast<Index>(a), dim * static_cast<Index>(b), dim, dim);
-      }
+      // sum_i fa_i H_i on the segment's nodes, then added into the element's numbering once.
+      sum.setZero(s.hess[0].rows(), s.hess[0].cols());
+      for (int i = 0; i < nu; ++i)
+        if (fa(i) != 0) sum += fa(i) * s.hess[i];
+      for (size_t a = 0; a < A.size(); ++a)
+        for (size_t b = 0; b < A.size(); ++b)
+          r.hess[j].block(dim * A[a], dim * A[b], dim, dim) +=
+              sum.block(dim * static_cast<Index>(a), dim * static_cast<Index>(b), dim, dim);
     }
   }
 }

@@ -201,16 +201,19 @@ void add_product(HyperDual<NV>& acc, const HyperDual<NV>& a, const HyperDual<NV>
       if (k == -2) break;
       k = i;
     }
-  if (k < 0 || b.h(k, k) != 0) {
+  if (k < 0 || b.hess(k, k) != 0) {
     acc += a * b;
     return;
   }
+  using HD = HyperDual<NV>;
   acc.v += a.v * b.v;
   acc.g += b.v * a.g;
   acc.g(k) += a.v;
   acc.h += b.v * a.h;
-  acc.h.row(k) += a.g.transpose();
-  acc.h.col(k) += a.g;
+  // Row and column k of the upper triangle: (i, k) for i < k, (k, k) twice, (k, j) for j > k.
+  for (int i = 0; i < k; ++i) acc.h(HD::row(i) + k - i) += a.g(i);
+  acc.h.segment(HD::row(k), NV - k) += a.g.tail(NV - k);
+  acc.h(HD::row(k)) += a.g(k);
 }
 template <int NV>
 V3<HyperDual<NV>> interpolate(int nn, const HyperDual<NV>* N, const V3<HyperDual<NV>>* x) {
@@ -574,17 +577,31 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
   std::vector<HD> u(num_u(ns));  // on the heap: up to 54 numbers of 21 kB (quad9 on quad9)
   if (!cell_integrals(ns, nm, xs, xm, u.data(), area, cover)) return false;
   const int nu = num_u(ns), nd = 3 * (ns + nm), nr = nd - 3;
-  MatX P = MatX::Zero(nd, nr);
-  P.bottomRows(nr).setIdentity();
-  for (int i = 0; i < nr; ++i) P(i % 3, i) = -1;
+  // P g and P H P^T for P = [-I -I ... -I; identity], written out (O(nr^2), where the two
+  // matrix products were O(nr^3) per integral): the first node's rows are minus the sums of
+  // the others' over each coordinate.
   s.grad.resize(nu);
   for (int k = 0; k < nu; ++k) {
     s.u[k] = u[k].v;
-    s.grad[k] = P * u[k].g.head(nr);
+    VecX& g = s.grad[k];
+    g.resize(nd);
+    g.tail(nr) = u[k].g.head(nr);
+    g.head(3).setZero();
+    for (int i = 0; i < nr; ++i) g(i % 3) -= u[k].g(i);
   }
   if constexpr (!std::is_same_v<HD, Dual<HD::Vec::RowsAtCompileTime>>) {
     s.hess.resize(nu);
-    for (int k = 0; k < nu; ++k) s.hess[k] = P * u[k].h.topLeftCorner(nr, nr) * P.transpose();
+    for (int k = 0; k < nu; ++k) {
+      MatX& F = s.hess[k];
+      F.resize(nd, nd);
+      for (int i = 0; i < nr; ++i)
+        for (int j = i; j < nr; ++j) F(3 + i, 3 + j) = F(3 + j, 3 + i) = u[k].h(HD::row(i) + j - i);
+      F.topRows(3).setZero();
+      for (int j = 0; j < nr; ++j)
+        for (int i = 0; i < nr; ++i) F(i % 3, 3 + j) -= F(3 + i, 3 + j);
+      for (int j = 0; j < nr; ++j) F.block(0, j % 3, 3, 1) -= F.block(0, 3 + j, 3, 1);
+      F.block(3, 0, nr, 3) = F.block(0, 3, 3, nr).transpose();
+    }
   }
   return true;
 }

@@ -89,7 +89,7 @@ Rotation rotation(const Real* theta, int n) {
       r.R(i, j) = e.v;
       for (int p = 0; p < 3; ++p) {
         r.dR[p](i, j) = e.g(p);
-        for (int q = 0; q < 3; ++q) r.d2R[p][q](i, j) = e.h(p, q);
+        for (int q = 0; q < 3; ++q) r.d2R[p][q](i, j) = e.hess(p, q);
       }
     }
   return r;
