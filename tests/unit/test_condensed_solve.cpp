@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "signorini/solver/condensed_solve.hpp"
+#include "signorini/solver/multiplier_blocks.hpp"
 
 namespace signorini {
 namespace {
@@ -311,7 +312,8 @@ TEST(CondensedSolve, FrictionBlocksOnSharedDofsAreRefinedToTheWholeSystemsStep) 
   // block has DOFs of its own. Each node's gap row and multiplier column here reach its
   // neighbours' slave and master DOFs too; the coupled pass takes each block's own slave DOFs as its pivots,
   // leaves the other blocks' entries there out of T and Z, and flexible GMRES on J brings the
-  // step back to the whole system's. Stick, slip and mixed, 2D and 3D.
+  // step back to the whole system's. Stick, slip and mixed, 2D and 3D; the reduced matrix also
+  // without its small entries (multiplier_blocks.hpp, kSharedDofsDrop; since session 62).
   using S = Slip;
   for (int dim : {2, 3})
     for (const std::vector<Slip>& states : {std::vector<Slip>{S::stick, S::stick, S::stick, S::stick},
@@ -334,14 +336,55 @@ TEST(CondensedSolve, FrictionBlocksOnSharedDofsAreRefinedToTheWholeSystemsStep) 
             s.J.coeffRef(dofs[c], nu + j) -= 0.2 * std::sin(0.7 * static_cast<Real>(c) + 0.4);
           }
         }
+      // Small couplings two nodes away (a tet10 mortar row's far master nodes): below
+      // kSharedDofsDrop in T's and Z's pivot rows, left out of the reduced matrix.
+      for (Index j = 0; j < nc; ++j)
+        for (Index o : {j - 2, j + 2}) {
+          if (o < 0 || o >= nc) continue;
+          const std::vector<Index> dofs = node_dofs(o);
+          for (size_t c = 0; c < dofs.size(); ++c) {
+            s.J.coeffRef(nu + j, dofs[c]) += 1e-3 * std::cos(0.9 * static_cast<Real>(c + j));
+            s.J.coeffRef(dofs[c], nu + j) -= 1e-3 * std::sin(0.5 * static_cast<Real>(c) + 0.2);
+          }
+        }
       s.J.makeCompressed();
+      // The blocks as the solver analyses them: coupled, and some of T's, Z's and Delta's
+      // entries (Delta: the slipping nodes') kept out of the reduced matrix.
+      std::vector<Index> mult;
+      std::vector<Index> slot(static_cast<size_t>(s.J.rows()), -1);
+      for (Index k = 0; k < s.J.rows(); ++k)
+        if (s.is_multiplier[k]) slot[k] = static_cast<Index>(mult.size()), mult.push_back(k);
+      std::vector<std::vector<std::pair<Index, Real>>> rows(mult.size()), cols(mult.size());
+      for (Index col = 0; col < s.J.outerSize(); ++col)
+        for (SparseMatrix::InnerIterator it(s.J, col); it; ++it) {
+          if (slot[it.row()] >= 0) rows[slot[it.row()]].emplace_back(col, it.value());
+          else if (slot[col] >= 0) cols[slot[col]].emplace_back(it.row(), it.value());
+        }
+      const MultiplierBlocks mb = analyse_multiplier_blocks(s.J.rows(), s.is_multiplier, mult, rows, cols);
+      ASSERT_TRUE(mb.why_not.empty()) << mb.why_not;
+      EXPECT_TRUE(mb.coupled) << dim << "D";
+      int left_out = 0, kept = 0;
+      for (const MultiplierBlock& b : mb.blocks)
+        for (Index a = 0; a < b.closed(); ++a)
+          for (const bool z : {false, true})
+            for (size_t j = 0; j < (z ? b.bu : b.cu).size(); ++j) {
+              if (mb.pivot_of[(z ? b.bu : b.cu)[j]] >= 0) continue;
+              (in_reduced_matrix(mb, b, a, z, j) ? kept : left_out)++;
+            }
+      EXPECT_GT(left_out, 0) << dim << "D: T's and Z's small coefficients";
+      EXPECT_GT(kept, 0) << dim << "D";
+      const bool slipping = states[1] == S::slip;
+      const long delta_out = std::count(mb.delta_in_reduced.begin(), mb.delta_in_reduced.end(), 0);
+      ASSERT_EQ(mb.delta_in_reduced.size(), mb.delta.size());
+      if (slipping) EXPECT_GT(delta_out, 0) << dim << "D: Delta's small entries";
       CondensedContactSolver solver(false);  // a factorization
       solver.set_condense_blocks_always(true);
       VecX dz;
       ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << dim << "D: " << solver.why_not();
       EXPECT_GT(solver.refinements(), 0) << dim << "D";
       EXPECT_LT(error_against_dense(s, dz), 1e-9) << dim << "D";
-      std::printf("%dD: %d GMRES steps\n", dim, solver.refinements());
+      std::printf("%dD%s: %d GMRES steps; %d of T's and Z's pivot-row entries and %ld of Delta's %zu left out of the "
+                  "reduced matrix\n", dim, slipping ? " (slip)" : "", solver.refinements(), left_out, delta_out, mb.delta.size());
     }
 }
 

@@ -416,6 +416,17 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     for (const auto& [ij, v] : mb.delta) t.emplace_back(static_cast<int>(ij.first), static_cast<int>(ij.second), v);
     Delta.setFromTriplets(t.begin(), t.end());
   }
+  // The reduced matrix's Delta: without the small entries of blocks on shared DOFs
+  // (multiplier_blocks.hpp, kSharedDofsDrop); the elimination's products use Delta whole.
+  SparseMatrix reduced_delta;
+  if (mb.coupled) {
+    std::vector<Eigen::Triplet<Real, int>> t;
+    for (size_t e = 0; e < mb.delta.size(); ++e)
+      if (mb.delta_in_reduced[e])
+        t.emplace_back(static_cast<int>(mb.delta[e].first.first), static_cast<int>(mb.delta[e].first.second), mb.delta[e].second);
+    reduced_delta.resize(n, n);
+    reduced_delta.setFromTriplets(t.begin(), t.end());
+  }
   // T and Z: identity on the kept DOFs, the blocks' pivot rows T_P and Z_P over their other DOFs.
   const bool keep_places = solver_.wants_layout(reduced);
   std::vector<Index> ridx(n, -1);
@@ -430,15 +441,15 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
   for (const MultiplierBlock& b : mb.blocks)
     for (int a = 0; a < b.closed(); ++a) {
       for (size_t j = 0; j < b.cu.size(); ++j)
-        if (pivot_of[b.cu[j]] < 0)
+        if (in_reduced_matrix(mb, b, a, false, j))
           trip.emplace_back(static_cast<int>(b.pivot[a]), static_cast<int>(ridx[b.cu[j]]), b.Tp(a, static_cast<Index>(j)));
       for (size_t i = 0; i < b.bu.size(); ++i)
-        if (pivot_of[b.bu[i]] < 0) left[b.pivot[a]].emplace_back(ridx[b.bu[i]], b.Zp(a, static_cast<Index>(i)));
+        if (in_reduced_matrix(mb, b, a, true, i)) left[b.pivot[a]].emplace_back(ridx[b.bu[i]], b.Zp(a, static_cast<Index>(i)));
     }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
-  const SparseMatrix Kr = reduced_product(J, &Delta, T, ridx, pivot_of, left, is_multiplier);
+  const SparseMatrix Kr = reduced_product(J, mb.coupled ? &reduced_delta : &Delta, T, ridx, pivot_of, left, is_multiplier);
   follow_pattern(Kr, keep_places, ridx);
   const bool inexact = mb.approximate && solver_.unsymmetric_iterative(reduced);
   const Real outer = inexact ? std::max(kRefinementTolerance, tolerance_ > 0 ? tolerance_ : rtol_) : kRefinementTolerance;

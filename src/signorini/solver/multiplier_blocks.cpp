@@ -226,7 +226,19 @@ MultiplierBlocks analyse_multiplier_blocks(Index n, const std::vector<char>& is_
     b.Tp = -b.CtP.solve(b.Ct);
     b.Zp = -bp.transpose().partialPivLu().solve(b.Bt.transpose());
   }
+  mb.delta_in_reduced.assign(mb.delta.size(), 1);
+  if (mb.coupled) {
+    std::vector<Real> largest(static_cast<size_t>(n), 0.0);
+    for (const auto& [ij, v] : mb.delta) largest[ij.first] = std::max(largest[ij.first], std::abs(v));
+    for (size_t e = 0; e < mb.delta.size(); ++e)
+      mb.delta_in_reduced[e] = std::abs(mb.delta[e].second) >= kSharedDofsDrop * largest[mb.delta[e].first.first];
+  }
   return mb;
+}
+
+bool in_reduced_matrix(const MultiplierBlocks& mb, const MultiplierBlock& b, Index a, bool z, size_t j) {
+  if (mb.pivot_of[(z ? b.bu : b.cu)[j]] >= 0) return false;
+  return !mb.coupled || std::abs((z ? b.Zp : b.Tp)(a, static_cast<Index>(j))) >= kSharedDofsDrop;
 }
 
 void blocks_reduce_rhs(const MultiplierBlocks& mb, const VecX& rhs, VecX& rt, VecX& z0) {

@@ -53,6 +53,9 @@ struct MultiplierBlocks {
   std::vector<Index> pivot_of;  // per unknown: its block when it is a pivot, else -1
   // Delta's entries (row, column, value), stored zeros included (the pattern follows J's).
   std::vector<std::pair<std::pair<Index, Index>, Real>> delta;
+  // Whether delta[e] enters the reduced matrix Z^T (J + Delta) T (all but the small entries of
+  // blocks on shared DOFs, kSharedDofsDrop); the elimination's own products use every entry.
+  std::vector<char> delta_in_reduced;
   bool approximate = false;  // a clamped singular value: the elimination is a nearby matrix's
   bool coupled = false;      // pivots shared with other blocks' rows (approximate too)
   int released = 0;          // closed rows released as dependent on their node's DOFs
@@ -69,6 +72,21 @@ constexpr Real kPivotQuality = 1e-3;
 constexpr Real kDependentRows = 1e-8;
 // The pivot blocks are sought among this many of a block's candidate DOFs (the best ranked).
 constexpr int kPivotCandidates = 8;
+
+// Blocks on shared DOFs (`coupled`, mortar's friction): the reduced matrix, a preconditioner
+// there (flexible GMRES on J takes the step), leaves out T's and Z's pivot-row coefficients below
+// kSharedDofsDrop and Delta's entries below kSharedDofsDrop of their row's largest, as the
+// partitioned backend does for coupled rows (petsc_solver.cpp, kCoupledDrop). A tet10 mortar
+// row spans about 190 DOFs, and Delta = -W C is dense over a block's DOFs (about 105 x 105 per
+// closed node there, every closed node's block having a coupled direction: 1.3M entries on the
+// tet10 Hertz quarter with friction, 107k kept). Measured there (docs/performance.md, session
+// 62): the same Newton, Krylov and GMRES counts; on 2 ranks T, Z and the product 2.9-5.5 s per
+// Newton iteration with every entry, 0.4-0.8 s without these; in one process the linear solve
+// 9.9 s -> 8.1 s (the reduced matrix 3.6M -> 3.1M nonzeros).
+constexpr Real kSharedDofsDrop = 1e-2;
+// Whether entry j of pivot row a of block b enters T (z false: over b.cu) or Z (z true: over b.bu):
+// the block's other DOFs that are not pivots, but for the small coefficients above.
+bool in_reduced_matrix(const MultiplierBlocks& mb, const MultiplierBlock& b, Index a, bool z, size_t j);
 
 // The blocks of the multipliers `mult` (ascending) of a system of n unknowns: rows[i] holds
 // multiplier mult[i]'s row (column, value) with its stored zeros, cols[i] its column's entries

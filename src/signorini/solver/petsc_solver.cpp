@@ -1303,18 +1303,6 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     decltype(mcols)().swap(mcols);
     if (!mb.why_not.empty()) throw cannot_condense(mb.why_not);
     const std::vector<Index>& pivot_of = mb.pivot_of;
-    // Entry j of pivot row a of block b in T (z false) or Z (z true), when it is kept: on the
-    // block's other DOFs that are not pivots. Blocks on shared DOFs (mb.coupled, mortar) leave
-    // out the coefficients below kCoupledDrop, as solve_condensed does for coupled rows: the
-    // step stays flexible GMRES's on J, and Z^T (J + Delta) T shrinks (a tet10 mortar row spans
-    // about 190 DOFs; on the tet10 Hertz quarter with friction, 2 ranks: T, Z and the product
-    // 2.9-5.5 s per Newton iteration with every coefficient, 0.4-0.8 s without these and
-    // Delta's small entries (below), the same Krylov and GMRES counts; docs/performance.md,
-    // session 62).
-    auto kept = [&](const MultiplierBlock& b, Index a, bool z, size_t j) {
-      const Index k = (z ? b.bu : b.cu)[j];
-      return pivot_of[k] < 0 && !(mb.coupled && std::abs((z ? b.Zp : b.Tp)(a, static_cast<Index>(j))) < kCoupledDrop);
-    };
     // Row i of T (z false) or Z (z true), PETSc's numbering: the identity's, empty with a stored
     // zero on the diagonal for a multiplier, a pivot's T_P or Z_P row over its block's other DOFs.
     auto t_row = [&](Index i, bool z, std::vector<std::pair<PetscInt, PetscScalar>>& rt) {
@@ -1329,7 +1317,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         const std::vector<Index>& dofs = z ? b.bu : b.cu;
         const MatX& P = z ? b.Zp : b.Tp;
         for (size_t j = 0; j < dofs.size(); ++j)
-          if (kept(b, a, z, j)) rt.emplace_back(row(dofs[j]), P(a, static_cast<Index>(j)));
+          if (in_reduced_matrix(mb, b, a, z, j)) rt.emplace_back(row(dofs[j]), P(a, static_cast<Index>(j)));
       }
       std::stable_sort(rt.begin(), rt.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     };
@@ -1344,22 +1332,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       for (const auto& [j, v] : rows_T[l]) (j >= rstart_ && j < rend_ ? t_d : t_o)[l]++;
       for (const auto& [j, v] : rows_Z[l]) (j >= rstart_ && j < rend_ ? z_d : z_o)[l]++;
     }
-    // Delta's entries in this rank's rows. On shared DOFs (mb.coupled) Delta = -W C is dense over
-    // each block's DOFs (about 105 x 105 per closed node on tet10 mortar: 1.3M entries on the
-    // Hertz quarter, every closed node's block having a coupled direction); those below
-    // kCoupledDrop of their row's largest are left out of the product, as T's and Z's small
-    // coefficients are (107k kept there, the same Krylov and GMRES counts).
-    std::vector<Real> delta_max(static_cast<size_t>(nloc), 0.0);
-    for (const auto& [ij, v] : mb.delta)
-      if (const PetscInt i = row(ij.first); i >= rstart_ && i < rend_) {
-        Real& m = delta_max[static_cast<size_t>(i - rstart_)];
-        m = std::max(m, std::abs(v));
-      }
-    for (const auto& [ij, v] : mb.delta) {
+    // Delta's entries in this rank's rows, those of the reduced matrix (multiplier_blocks.hpp).
+    for (size_t e = 0; e < mb.delta.size(); ++e) {
+      const auto& [ij, v] = mb.delta[e];
       const PetscInt i = row(ij.first);
-      if (i < rstart_ || i >= rend_) continue;
-      if (!mb.coupled || std::abs(v) >= kCoupledDrop * delta_max[static_cast<size_t>(i - rstart_)])
-        delta[static_cast<size_t>(i - rstart_)].emplace_back(row(ij.second), v);
+      if (i >= rstart_ && i < rend_ && mb.delta_in_reduced[e]) delta[static_cast<size_t>(i - rstart_)].emplace_back(row(ij.second), v);
     }
     // The rows of T and Z that are not the identity's, on every rank.
     TRows special, left;

@@ -163,8 +163,9 @@ void shape(int nn, const T& a, const T& b, T* N, T* Na, T* Nb) {
   }
 }
 // Scratch arrays of numbers that are all assigned before they are read (shape functions): a
-// hyper-dual number is not zeroed first (a 36-input one is 10 kB, and the shape functions'
-// arrays at every rule point were zeroed 80 times over: a fifth of the tri6 mortar's time).
+// hyper-dual number is not zeroed first (a 36-input one is 5.6 kB, 10 kB until session 62, and
+// the shape functions' arrays at every rule point were zeroed 80 times over: a fifth of the
+// tri6 mortar's time).
 template <class T>
 struct IsHyperDual : std::false_type {};
 template <int N>
@@ -574,7 +575,7 @@ bool cell_derivatives(int ns, int nm, const std::vector<Vec3>& xl, SegmentIntegr
   };
   for (int k = 0; k < ns; ++k) xs[k] = input(k);
   for (int k = 0; k < nm; ++k) xm[k] = input(ns + k);
-  std::vector<HD> u(num_u(ns));  // on the heap: up to 54 numbers of 21 kB (quad9 on quad9)
+  std::vector<HD> u(num_u(ns));  // on the heap: up to 54 numbers of 11 kB (quad9 on quad9)
   if (!cell_integrals(ns, nm, xs, xm, u.data(), area, cover)) return false;
   const int nu = num_u(ns), nd = 3 * (ns + nm), nr = nd - 3;
   // P g and P H P^T for P = [-I -I ... -I; identity], written out (O(nr^2), where the two

@@ -32,7 +32,7 @@ struct HyperDual {
   HyperDual() = default;
   HyperDual(Real value) : v(value) {}  // NOLINT: a constant
   // A result whose value, gradient and Hessian are all assigned next: no zeroing (a 36-input
-  // number is 5 kB, and zeroing results took a tenth of the 3D mortar's time).
+  // number is 5.6 kB, and zeroing results took a tenth of the 3D mortar's time).
   struct Uninitialized {};
   explicit HyperDual(Uninitialized) : g(), h() {}
   // The i-th input with value `value`.
