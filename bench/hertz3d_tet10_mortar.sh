@@ -12,6 +12,10 @@
 # another solver.linear type) solves the condensed system with it (default: auto, which takes
 # CHOLMOD, or GAMG where the Cholesky factor would hold more than 5e7 entries, as on the fine
 # mesh); FACTOR_LIMIT=0 keeps auto on CHOLMOD (solver.linear.direct_factor_limit).
+# FRICTION="{law: coulomb, mu: 0.3}" gives the pair friction (default: frictionless); with
+# Lagrange multipliers on mortar, friction's blocks on shared DOFs, condensed for GMRES over
+# GAMG (docs/performance.md, sessions 61 and 62). MPIRUN="mpirun -np 2" runs the solver under
+# that launcher (default: one process).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -33,7 +37,7 @@ bodies:
   - {name: sphere, region: SPH, material: steel}
   - {name: block, region: BLOCK, material: steel}
 contact:
-  - {name: hertz, slave: SLAVE, master: MASTER, discretization: ${DISCRETIZATION:-mortar}}
+  - {name: hertz, slave: SLAVE, master: MASTER, discretization: ${DISCRETIZATION:-mortar}${FRICTION:+, friction: $FRICTION}}
 steps:
   - name: press
     boundary:
@@ -44,7 +48,7 @@ steps:
 output: {vtu: none}
 solver: {linear: {type: ${LINEAR:-auto}, direct_factor_limit: ${FACTOR_LIMIT:-5e7}}}
 DECK
-  "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
+  ${MPIRUN:-} "$build/signorini" run -q "$work/deck.yaml" -o "$work/out" > "$work/log" 2>&1 || true
   s="$work/out/summary.json"
   get() { grep -o "\"$1\": [^,}]*" "$s" | head -1 | sed 's/.*: //'; }
   # P = 4 |F_z| on NTOP (quarter model); Hertz: a = (3 P R / 4 E*)^(1/3), p0 = 3 P / (2 pi a^2).
