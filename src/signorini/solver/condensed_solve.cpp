@@ -409,24 +409,20 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     return false;
   }
   const std::vector<Index>& pivot_of = mb.pivot_of;
-  SparseMatrix Delta(n, n);
-  {
+  // Delta, and the reduced matrix's Delta: without the small entries of blocks on shared DOFs
+  // (multiplier_blocks.hpp, kSharedDofsDrop); the elimination's products use Delta whole.
+  auto delta_matrix = [&](bool reduced) {
     std::vector<Eigen::Triplet<Real, int>> t;
     t.reserve(mb.delta.size());
-    for (const auto& [ij, v] : mb.delta) t.emplace_back(static_cast<int>(ij.first), static_cast<int>(ij.second), v);
-    Delta.setFromTriplets(t.begin(), t.end());
-  }
-  // The reduced matrix's Delta: without the small entries of blocks on shared DOFs
-  // (multiplier_blocks.hpp, kSharedDofsDrop); the elimination's products use Delta whole.
-  SparseMatrix reduced_delta;
-  if (mb.coupled) {
-    std::vector<Eigen::Triplet<Real, int>> t;
     for (size_t e = 0; e < mb.delta.size(); ++e)
-      if (mb.delta_in_reduced[e])
+      if (!reduced || mb.delta_in_reduced[e])
         t.emplace_back(static_cast<int>(mb.delta[e].first.first), static_cast<int>(mb.delta[e].first.second), mb.delta[e].second);
-    reduced_delta.resize(n, n);
-    reduced_delta.setFromTriplets(t.begin(), t.end());
-  }
+    SparseMatrix D(n, n);
+    D.setFromTriplets(t.begin(), t.end());
+    return D;
+  };
+  const SparseMatrix Delta = delta_matrix(false);
+  const SparseMatrix reduced_delta = mb.coupled ? delta_matrix(true) : SparseMatrix();
   // T and Z: identity on the kept DOFs, the blocks' pivot rows T_P and Z_P over their other DOFs.
   const bool keep_places = solver_.wants_layout(reduced);
   std::vector<Index> ridx(n, -1);

@@ -49,13 +49,12 @@ struct HyperDual {
       for (int j = i; j < N; ++j) m(i, j) = m(j, i) = h(row(i) + j - i);
     return m;
   }
-  // H += s (a b^T + b a^T), on the upper triangle; the rows where both a and b are zero (the
-  // inputs a number does not depend on) are skipped.
-  void add_symmetric_product(Real s, const Vec& a, const Vec& b) {
+  // H += a b^T + b a^T, on the upper triangle; the rows where both a and b are zero (the inputs
+  // a number does not depend on) are skipped.
+  void add_symmetric_product(const Vec& a, const Vec& b) {
     for (int i = 0; i < N; ++i) {
-      const Real ai = s * a(i), bi = s * b(i);
-      if (ai == 0 && bi == 0) continue;
-      h.segment(row(i), N - i) += ai * b.tail(N - i) + bi * a.tail(N - i);
+      if (a(i) == 0 && b(i) == 0) continue;
+      h.segment(row(i), N - i) += a(i) * b.tail(N - i) + b(i) * a.tail(N - i);
     }
   }
   // H += s a a^T, on the upper triangle.
@@ -146,7 +145,7 @@ HyperDual<N> operator*(const HyperDual<N>& a, const HyperDual<N>& b) {
   r.v = a.v * b.v;
   r.g = a.v * b.g + b.v * a.g;
   r.h = a.v * b.h + b.v * a.h;
-  r.add_symmetric_product(1, a.g, b.g);
+  r.add_symmetric_product(a.g, b.g);
   return r;
 }
 template <int N>
