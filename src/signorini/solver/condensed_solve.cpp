@@ -254,8 +254,7 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   bool coupled = false;
   if (!choose_pivots(false)) {
     coupled = true;
-    if (coupled_skip_ > 0) {
-      --coupled_skip_;
+    if (coupled_backoff_.skipping()) {
       why_not_ = "coupled contact rows (segment_to_segment, mortar), whose refined solve failed lately";
       return false;
     }
@@ -350,12 +349,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   refinements_ = g.steps;
   const Real final_norm = g.residual;
   if (final_norm <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
-    coupled_backoff_ = 1;
+    coupled_backoff_.succeeded();
     return true;
   }
-  // The whole system for the next 1, 2, 4, ... solves after each failure in a row.
-  coupled_skip_ = coupled_backoff_;
-  coupled_backoff_ = std::min(2 * coupled_backoff_, 64);
+  coupled_backoff_.failed();  // the whole system for the next 1, 2, 4, ... solves
   why_not_ = fmt::format(
       "coupled contact rows (segment_to_segment, mortar): GMRES on the condensed preconditioner stalls at {:.1e} of "
       "the right-hand side after {} steps",
@@ -380,8 +377,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                "iterative_above, or linear: gamg)";
     return false;
   }
-  if (blocks_skip_ > 0) {
-    --blocks_skip_;
+  if (blocks_backoff_.skipping()) {
     why_not_ = blocks_why_not_;
     return false;
   }
@@ -402,10 +398,9 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     // Refused blocks are refused again at the next iterations as a rule (mortar's friction: its
     // rows share the slave nodes' DOFs; the analysis was an eighth of the tet10 Hertz quarter's
     // run, at every Newton iteration): the whole system for the next 1, 2, 4, ... solves after
-    // each refusal in a row, as after a failed refinement of coupled rows (coupled_skip_).
+    // each refusal in a row, as after a failed refinement of coupled rows (coupled_backoff_).
     why_not_ = blocks_why_not_ = mb.why_not;
-    blocks_skip_ = blocks_backoff_;
-    blocks_backoff_ = std::min(2 * blocks_backoff_, 64);
+    blocks_backoff_.failed();
     return false;
   }
   const std::vector<Index>& pivot_of = mb.pivot_of;
@@ -479,7 +474,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
              mb.released ? fmt::format(", {} dependent rows released", mb.released) : "", Kr.rows(), Kr.nonZeros(),
              solver_.last_used(), log::memory_mib());
   if (!mb.approximate) {
-    blocks_backoff_ = 1;
+    blocks_backoff_.succeeded();
     return true;
   }
   // A clamped singular value, or blocks on shared DOFs: GMRES on J, right-preconditioned by the
@@ -489,7 +484,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                                                outer * rnorm, kMaxRefinements);
   refinements_ = g.steps;
   if (g.residual <= std::max(kRefinementAccepted, 2 * outer) * rnorm) {
-    blocks_backoff_ = 1;
+    blocks_backoff_.succeeded();
     return true;
   }
   why_not_ = fmt::format("{}: GMRES on the condensed preconditioner stalls at {:.1e} of the right-hand side after {} steps",
@@ -497,8 +492,7 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
                          g.residual / rnorm, g.steps);
   if (mb.coupled) {  // the same blocks next time: backed off as a refusal (a barely slipping node passes)
     blocks_why_not_ = why_not_;
-    blocks_skip_ = blocks_backoff_;
-    blocks_backoff_ = std::min(2 * blocks_backoff_, 64);
+    blocks_backoff_.failed();
   }
   return false;
 }

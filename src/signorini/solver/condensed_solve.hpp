@@ -4,6 +4,7 @@
 // what remains is the displacement system T^T J T, symmetric when the bodies' tangent is, so
 // Cholesky or CG can solve it. The multipliers are recovered from the eliminated DOFs' rows.
 #pragma once
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -56,7 +57,7 @@ class CondensedContactSolver {
   }
   std::string why_not() const { return why_not_; }
   // How many times friction's multiplier blocks were analysed (solve_blocks; skipped after a
-  // refusal, see blocks_skip_).
+  // refusal, see blocks_backoff_).
   int block_analyses() const { return block_analyses_; }
   // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
   int analyses() const { return analyses_; }
@@ -93,8 +94,19 @@ class CondensedContactSolver {
   Real rtol_ = 1e-8;  // the deck's rtol (the inner Krylov solver's)
   int refinements_ = 0;
   int iterations_ = 0;
-  int coupled_skip_ = 0, coupled_backoff_ = 1;  // after a failed refinement (as AutoLinearSolver's)
-  int blocks_skip_ = 0, blocks_backoff_ = 1;    // after friction's blocks were refused (solve_blocks)
+  // The whole system for the next 1, 2, 4, ... (at most 64) solves after each failure in a row
+  // (as AutoLinearSolver's after a failed Cholesky); a success resets the count.
+  struct Backoff {
+    int skip = 0, next = 1;
+    bool skipping() { return skip > 0 ? (--skip, true) : false; }
+    void failed() {
+      skip = next;
+      next = std::min(2 * next, 64);
+    }
+    void succeeded() { next = 1; }
+  };
+  Backoff coupled_backoff_;  // after a failed refinement of coupled rows
+  Backoff blocks_backoff_;   // after friction's blocks were refused or their refinement stalled (solve_blocks)
   std::string blocks_why_not_;
   int block_analyses_ = 0;
   bool blocks_always_ = false;
