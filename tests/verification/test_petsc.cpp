@@ -11,7 +11,12 @@
 
 #include "hertz_runner.hpp"
 #include "signorini/core/error.hpp"
+#include "signorini/fem/dof_map.hpp"
+#include "signorini/solver/backend.hpp"
 #include "signorini/solver/linear_solver.hpp"
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 
 using namespace signorini;
 
@@ -291,6 +296,58 @@ TEST(Petsc, AlgebraicMultigridRefusesTheSaddlePointAndTakesFrictionBlocks) {
   ASSERT_TRUE(whole.summary.completed && stack.summary.completed) << stack.summary.failure;
   EXPECT_EQ(stack.summary.increments.back().linear_solver, "condensed+gamg");
   expect_same_checks(whole, stack, 1e-6, "plate_stack gamg");
+}
+
+// The partitioned backend (make_petsc_backend, here on one rank) and an entry outside its
+// pattern, as a contact constraint that meets new DOFs adds one: the entry is dropped and
+// reported by missed(), and nothing after it is added, as the serial GlobalSystem does; the
+// analysis then rebuilds the pattern and assembles again (Analysis::evaluate). Until session 63
+// PETSc stored it, growing its row in place: on a 186k-DOF tet10 mortar model with friction on
+// 2 ranks the first line search's assembly ran for more than 10 minutes.
+TEST(Petsc, PartitionedMatrixDropsAnEntryOutsideItsPattern) {
+#ifndef SIGNORINI_HAVE_PETSC
+  GTEST_SKIP() << "built without PETSc";
+#else
+  // Two quad4 cells that share no node: 8 nodes, 16 DOFs, no coupling between the cells.
+  std::vector<Vec3> X;
+  for (int c = 0; c < 2; ++c)
+    for (const auto& [x, y] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) X.emplace_back(x + 3.0 * c, y, 0);
+  ElementBlock block{ElementType::quad4, {}, {}};
+  block.add({0, 1, 2, 3}, 1);
+  block.add({4, 5, 6, 7}, 2);
+  const std::vector<const ElementBlock*> cells{&block};
+  const DofMap dofs(8, 2, cells);
+  LinearSolverSettings settings;
+  settings.type = "mumps";
+  std::unique_ptr<AlgebraBackend> backend = make_petsc_backend(settings);
+  backend->set_coordinates(&X);
+  backend->build_pattern(dofs, cells, {}, dofs.num_dofs());
+  const Index n = dofs.num_dofs();
+  const Index a = dofs.dof(0, 0), b = dofs.dof(4, 1), c = dofs.dof(1, 0);
+  auto column = [&](Index j) {
+    VecX x = VecX::Zero(n), y;
+    x(j) = 1;
+    backend->multiply(x, y);
+    return y;
+  };
+  backend->zero();
+  const Index in_pattern[2] = {a, c};
+  backend->matrix().add(in_pattern, 2, (MatX(2, 2) << 2, -1, -1, 2).finished());
+  EXPECT_FALSE(backend->missed());
+  EXPECT_DOUBLE_EQ(column(c)(a), -1);
+  // A coupling between the two cells: outside the pattern.
+  const Index outside[2] = {a, b};
+  backend->matrix().add(outside, 2, (MatX(2, 2) << 1, 5, 5, 1).finished());
+  backend->matrix().add(in_pattern, 2, (MatX(2, 2) << 1, 1, 1, 1).finished());
+  EXPECT_TRUE(backend->missed());
+  EXPECT_EQ(column(b)(a), 0) << "the entry outside the pattern is dropped";
+  EXPECT_DOUBLE_EQ(column(c)(a), -1) << "nothing is added after the entry outside the pattern";
+  // The next assembly starts afresh.
+  backend->zero();
+  backend->matrix().add(in_pattern, 2, (MatX(2, 2) << 2, -1, -1, 2).finished());
+  EXPECT_FALSE(backend->missed());
+  EXPECT_DOUBLE_EQ(column(a)(a), 2);
+#endif
 }
 
 namespace {

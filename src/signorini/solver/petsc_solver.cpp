@@ -702,6 +702,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void build_pattern(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
                      const std::vector<std::vector<Index>>& couplings, Index total) override {
     destroy();
+    missed_here_ = false;
     n_ = total;
     nodal_ = dofs.num_dofs();
     const int ndpn = std::max(dofs.dofs_per_node(), 1);
@@ -776,6 +777,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     ensure_assembled();
     check(MatZeroEntries(A_), "MatZeroEntries");
     extra_.clear();
+    missed_here_ = false;
     // The padding rows' identity (on the last rank).
     for (Index i = std::max(rstart_, n_); i < rend_; ++i) {
       const PetscInt row = static_cast<PetscInt>(i);
@@ -813,6 +815,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     dirty_ = true;  // the next assembly marks A changed (a preconditioner built on it is stale)
     extra_.clear();
+    missed_here_ = false;
     return true;
   }
   GlobalMatrix& matrix() override { return *this; }
@@ -848,12 +851,32 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     PetscErrorCode code = 0;
 #pragma omp critical(signorini_petsc_add)
-    code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
+    if (in_cells_) {
+      code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
+    } else if (!missed_here_) {
+      // An entry outside the pattern (a contact constraint that met new DOFs) is not stored
+      // but reported by missed(), as the serial GlobalSystem does: the analysis rebuilds the
+      // pattern and assembles again, so nothing after it is added either. Stored, each new
+      // entry would grow its row in place (an off-diagonal block's new column even disassembles
+      // the whole matrix): a mortar pair with friction on 186k tet10 DOFs on 2 ranks spent more
+      // than 10 minutes there at its first line search (docs/performance.md, session 63).
+      MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE);
+      PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+      code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
+      PetscPopErrorHandler();
+      MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_FALSE);
+      if (code == PETSC_ERR_ARG_OUTOFRANGE) {
+        missed_here_ = true;
+        code = 0;
+      }
+    }
     check(code, "MatSetValues");
   }
   bool missed() const override {
     ensure_assembled();
-    return global_nonzeros() > pattern_nonzeros_;
+    int here = missed_here_ ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &here, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+    return here > 0 || global_nonzeros() > pattern_nonzeros_;
   }
   void multiply(const VecX& x, VecX& y) const override {
     ensure_assembled();
@@ -2096,6 +2119,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   VecScatter gather_ = nullptr;
   KSP ksp_ = nullptr;
   bool symmetric_ = true, configured_ = false, nullspace_stale_ = true, in_cells_ = false;
+  bool missed_here_ = false;  // an entry outside the pattern, dropped since the last zero() (add)
   mutable bool dirty_ = false;
 };
 }  // namespace
