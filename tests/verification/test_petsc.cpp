@@ -298,7 +298,17 @@ TEST(Petsc, AlgebraicMultigridRefusesTheSaddlePointAndTakesFrictionBlocks) {
   expect_same_checks(whole, stack, 1e-6, "plate_stack gamg");
 }
 
-// The partitioned backend (make_petsc_backend, here on one rank) and an entry outside its
+#ifdef SIGNORINI_HAVE_PETSC
+// PETSc (and MPI) ended when the tests end, so that the test below can run under mpirun
+// (mpi.partitioned_matrix_drops_outside_pattern_np2) and exit cleanly.
+struct FinalizePetsc : ::testing::Environment {
+  void TearDown() override { finalize_petsc(); }
+};
+const auto* const kFinalizePetsc = ::testing::AddGlobalTestEnvironment(new FinalizePetsc);
+#endif
+
+// The partitioned backend (make_petsc_backend, on one rank here, on two in
+// mpi.partitioned_matrix_drops_outside_pattern_np2) and an entry outside its
 // pattern, as a contact constraint that meets new DOFs adds one: the entry is dropped and
 // reported by missed(), and nothing after it is added, as the serial GlobalSystem does; the
 // analysis then rebuilds the pattern and assembles again (Analysis::evaluate). Until session 63

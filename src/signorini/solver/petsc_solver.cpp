@@ -860,10 +860,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       // entry would grow its row in place (an off-diagonal block's new column even disassembles
       // the whole matrix): a mortar pair with friction on 186k tet10 DOFs on 2 ranks spent more
       // than 10 minutes there at its first line search (docs/performance.md, session 63).
+      // (PETSc's errors come back as codes: ensure_petsc's handler.)
       MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE);
-      PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
       code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
-      PetscPopErrorHandler();
       MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_FALSE);
       if (code == PETSC_ERR_ARG_OUTOFRANGE) {
         missed_here_ = true;
