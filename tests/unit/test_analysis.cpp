@@ -236,6 +236,36 @@ TEST(Analysis, EveryLinearSolverGivesTheSameAnswer) {
   }
 }
 
+TEST(Analysis, SymmetricSolversRefuseAnUnsymmetricModelBeforeTheFirstSolve) {
+  // A Model made without a deck (the Python module): follower pressure under finite strain
+  // makes the tangent unsymmetric, which CHOLMOD, Eigen's LDL^T and CG would solve as its
+  // symmetric part. The Analysis refuses them at solver.linear, saying why; UMFPACK runs it.
+  for (const char* solver : {"cholmod", "eigen_ldlt", "eigen_cg", "umfpack"}) {
+    Model m = block(Dimension::plane_strain, true);
+    m.linear_solver = solver;
+    Step s;
+    s.name = "press";
+    s.initial_increment = 0.5;
+    s.dirichlet = {fix("ymin", 0), fix("ymin", 1)};
+    s.loads = {load(LoadKind::pressure, "ymax", Vec3::Zero(), 50.0)};
+    m.steps = {s};
+    EXPECT_EQ(unsymmetric_tangent_reasons(m), std::vector<std::string>{"follower pressure (finite strain) in step 'press'"});
+    if (std::string(solver) == "umfpack") {
+      EXPECT_EQ(symmetric_solver_refusal(m), "");
+      Analysis a(m);
+      EXPECT_TRUE(a.run().completed);
+      continue;
+    }
+    try {
+      Analysis a(m);
+      ADD_FAILURE() << solver << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key(), "solver.linear") << e.what();
+      EXPECT_NE(e.message().find("follower pressure (finite strain) in step 'press'"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Analysis, FollowerPressurePicksAnUnsymmetricSolver) {
   Model m = block(Dimension::plane_strain, true);
   Step s;

@@ -276,3 +276,61 @@ TEST(Hertz, CondensedMultipliersGiveTheSameNewtonSteps) {
                 a.summary.total_iterations);
   }
 }
+
+TEST(Hertz, SymmetricSolversTakeTheMultipliersCondensedAndRefuseAnUnsymmetricTangent) {
+  // CHOLMOD, Eigen's LDL^T and CG read one triangle of the matrix (or assume symmetry). Named
+  // in the deck, until session 64 they got the multipliers' whole saddle point (and stopped with
+  // "singular (missing supports?) or not positive definite" at the first solve) and a frictional
+  // tangent as it was (its symmetric part solved: examples/friction_block took 73 Newton
+  // iterations against 28, examples/cattaneo_cylinder gave up). Now the multipliers are
+  // condensed for them, as for `auto` (the same answer as `auto`'s to 1e-6, each check within
+  // its reference tolerance), and an unsymmetric model is refused before the first solve, at
+  // solver.linear, saying why its tangent is unsymmetric.
+  const std::string cylinder = test::example_deck_text("hertz_cylinder");
+  const test::HertzRun reference = test::run_deck_text(cylinder, "auto");
+  ASSERT_TRUE(reference.summary.completed) << reference.summary.failure;
+  for (const char* solver : {"cholmod", "eigen_ldlt", "eigen_cg"}) {
+    const test::HertzRun r = test::run_deck_text(cylinder + "solver: {linear: " + solver + "}\n", solver);
+    ASSERT_TRUE(r.summary.completed) << solver << ": " << r.summary.failure;
+    EXPECT_EQ(r.summary.increments.back().linear_solver, std::string("condensed+") + solver);
+    ASSERT_EQ(r.checks.size(), reference.checks.size());
+    for (size_t k = 0; k < r.checks.size(); ++k) {
+      EXPECT_NEAR(r.checks[k].computed, reference.checks[k].computed, 1e-6 * std::abs(reference.checks[k].computed))
+          << solver << ": " << r.checks[k].check.name;
+      EXPECT_TRUE(r.checks[k].pass) << solver << ": " << r.checks[k].check.name;
+    }
+    // The saddle point itself is refused at the deck's key.
+    try {
+      test::run_deck_text(cylinder + "solver: {linear: " + solver + ", condense_contact: false}\n", "saddle");
+      ADD_FAILURE() << solver << " with condense_contact: false accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("condense_contact"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("saddle point"), std::string::npos) << e.what();
+    }
+  }
+  // Coulomb friction (penalty): refused, naming the deck's line of solver.linear and the pair.
+  const std::string block = test::example_deck_text("friction_block");
+  const size_t line = static_cast<size_t>(std::count(block.begin(), block.end(), '\n')) + 1;
+  for (const char* solver : {"cholmod", "eigen_ldlt", "eigen_cg"}) {
+    try {
+      test::run_deck_text(block + "solver: {linear: " + solver + "}\n", "friction");
+      ADD_FAILURE() << solver << " on a frictional model accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(".yaml:" + std::to_string(line)), std::string::npos) << what;
+      EXPECT_NE(what.find("solver.linear"), std::string::npos) << what;
+      EXPECT_NE(what.find("friction in contact pair 'floor'"), std::string::npos) << what;
+    }
+  }
+  // The solver itself refuses an unsymmetric matrix (for callers other than the Analysis).
+  SparseMatrix a(2, 2);
+  a.insert(0, 0) = 4;
+  a.insert(0, 1) = 1;
+  a.insert(1, 0) = -1;
+  a.insert(1, 1) = 3;
+  VecX x;
+  AutoLinearSolver s("cholmod");
+  EXPECT_THROW(s.solve(a, false, VecX::Ones(2), x), SolverError);
+  s.solve(a, true, VecX::Ones(2), x);  // declared symmetric: CHOLMOD reads the lower triangle
+  EXPECT_LT((VecX(2) << 4 * x(0) - x(1) - 1, -x(0) + 3 * x(1) - 1).finished().norm(), 1e-12);
+}

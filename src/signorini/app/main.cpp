@@ -94,7 +94,7 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   // `auto` picks one of those itself (Analysis::choose_algebra) in a build with PETSc.
   if (ranks > 1 && !is_petsc_solver(model.linear_solver.type) &&
       !(model.linear_solver.type == "auto" && petsc_available()))
-    throw InputError(deck, "solver.linear",
+    throw InputError(model.linear_solver_where.empty() ? deck : model.linear_solver_where, "solver.linear",
                      fmt::format("this run has {} MPI ranks: the linear solver must be one that PETSc distributes "
                                  "(gamg, hypre, mumps or petsc{}), not '{}'",
                                  ranks, petsc_available() ? ", or auto" : "; this build has no PETSc",

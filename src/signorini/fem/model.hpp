@@ -147,8 +147,23 @@ struct Model {
   std::vector<ContactPairSettings> contacts;
   NewtonSettings newton;
   LinearSolverSettings linear_solver;
+  // Where the deck names the linear solver (file:line of solver.linear), for the errors about
+  // it found once the model is set up; empty when the deck does not name one.
+  std::string linear_solver_where;
   OutputSettings output;
   std::vector<Check> checks;
 };
+
+// Why the model's linear systems are unsymmetric (each reason naming its contact pair or step):
+// friction, Nitsche's method with theta other than 1, follower pressure under finite strain, a
+// moment in 3D. Empty when they are symmetric (Lagrange multipliers aside: their saddle point
+// is condensed to a symmetric system). The Analysis' own test is Analysis::symmetric_solves.
+std::vector<std::string> unsymmetric_tangent_reasons(const Model& model);
+// The refusal of a solver for symmetric systems only (is_symmetric_only_solver) named for a
+// model whose systems are unsymmetric; empty when there is none to make. Until session 64 such
+// a solver solved the tangent's symmetric part (one triangle read): examples/friction_block with
+// cholmod took 73 Newton iterations against 28, examples/cattaneo_cylinder gave up after its
+// cutbacks, with eigen_ldlt it ran past 5 minutes.
+std::string symmetric_solver_refusal(const Model& model);
 
 }  // namespace signorini

@@ -914,6 +914,7 @@ void read_solver(const Node& n, const Registry& r, Model& m) {
     if (std::find(p->choices.begin(), p->choices.end(), m.linear_solver.type) == p->choices.end())
       c.fail("got '" + m.linear_solver.type + "', expected " + p->range_text());
   }
+  if (n.has("linear")) m.linear_solver_where = n.child("linear").where();
   if (is_petsc_solver(m.linear_solver.type) && !petsc_available())
     n.child("linear").fail("linear solver '" + m.linear_solver.type +
                            "' needs PETSc, and this build has none (install petsc-dev, e.g. with "
@@ -1120,15 +1121,19 @@ Model read_deck_unguarded(const std::string& path, const Registry& registry, Dec
   for (size_t i = 0; i < steps.node.size(); ++i) read_step(steps.at(i), i, registry, m);
   if (top.has("solver")) {
     read_solver(top.child("solver"), registry, m);
-    // Algebraic multigrid cannot take the multipliers' saddle point: they must be condensed.
+    // Algebraic multigrid, Cholesky and CG cannot take the multipliers' saddle point: they
+    // must be condensed.
     const std::string& t = m.linear_solver.type;
     const bool amg = is_amg_solver(t);
     const bool multipliers = std::any_of(m.contacts.begin(), m.contacts.end(),
                                          [](const ContactPairSettings& c) { return c.method == "lagrange"; });
-    if (amg && multipliers && !m.newton.condense_contact)
+    if ((amg || is_symmetric_only_solver(t)) && multipliers && !m.newton.condense_contact)
       top.child("solver").child("condense_contact").fail(
-          "linear solver " + t + " needs the contact multipliers condensed (condense_contact: true, the default): "
-          "algebraic multigrid cannot take their saddle point; or use enforcement: penalty, or linear: mumps");
+          "linear solver " + t + " needs the contact multipliers condensed (condense_contact: true, the default): " +
+          (amg ? "algebraic multigrid" : "a symmetric solver without pivoting") +
+          " cannot take their saddle point; or use enforcement: penalty, or linear: umfpack or mumps");
+    const std::string refusal = symmetric_solver_refusal(m);
+    if (!refusal.empty()) top.child("solver").child("linear").fail(refusal);
   }
   if (top.has("output")) {
     const TypeSpec& os = deck_spec(registry, "output");

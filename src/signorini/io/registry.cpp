@@ -191,13 +191,13 @@ void register_linear_solvers(Registry& r) {
          "unsymmetric 3D systems of any size (Lagrange friction's multipliers condensed, or none), the whole system "
          "to mumps where they cannot be condensed or where GMRES fails; mumps otherwise.",
          {}});
-  r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite).", {}});
+  r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite). Symmetric systems only: a model whose tangent is unsymmetric (friction, follower pressure) is refused; contact multipliers are condensed for it.", {}});
   r.add({"linear_solver", "umfpack", "SuiteSparse UMFPACK multifrontal LU (any nonsingular matrix).", {}});
-  r.add({"linear_solver", "eigen_ldlt", "Eigen simplicial LDLT (symmetric; always available, slower).", {}});
+  r.add({"linear_solver", "eigen_ldlt", "Eigen simplicial LDLT, no pivoting (symmetric; always available, slower). Symmetric systems only: a model whose tangent is unsymmetric (friction, follower pressure) is refused; contact multipliers are condensed for it.", {}});
   r.add({"linear_solver", "eigen_lu", "Eigen SparseLU (general; always available, slower).", {}});
   r.add({"linear_solver", "eigen_cg",
          "Eigen conjugate gradients with incomplete Cholesky preconditioning, relative tolerance 1e-10 (symmetric "
-         "positive definite; far less memory than a direct factor on large 3D problems).",
+         "positive definite; far less memory than a direct factor on large 3D problems). Symmetric systems only: a model whose tangent is unsymmetric (friction, follower pressure) is refused; contact multipliers are condensed for it.",
          {}});
   const std::string petsc = petsc_available() ? "" : " Not in this build (configured without PETSc).";
   r.add({"linear_solver", "gamg",

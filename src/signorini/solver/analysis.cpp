@@ -241,6 +241,7 @@ Analysis::Analysis(Model& model)
   for (auto& c : contacts_)
     for (Index j = 0; j < c->num_multipliers(); ++j) is_multiplier_[c->multiplier_offset() + j] = 1;
   has_multipliers_ = std::find(is_multiplier_.begin(), is_multiplier_.end(), 1) != is_multiplier_.end();
+  refuse_symmetric_only_solver();
   choose_algebra();
   // Partitioned assembly: Nitsche's points built and assembled by one rank each.
   if (backend_->ranks() > 1)
@@ -327,6 +328,19 @@ std::string Analysis::contact_evaluation() const {
                      s.empty() ? "" : "; ", ranks, points.size() > 1 ? "s" : "", fmt::join(points, ", "));
   if (whole > 0) s += "; the other pairs evaluated whole on each rank";
   return s;
+}
+
+// The deck reader refuses a solver for symmetric systems on a model whose systems are
+// unsymmetric (symmetric_solver_refusal); a Model made otherwise (the Python module, tests) is
+// refused here, before the first solve. (The multipliers' saddle point is not refused: the
+// backend condenses it.)
+void Analysis::refuse_symmetric_only_solver() const {
+  if (!is_symmetric_only_solver(model_.linear_solver.type) || symmetric_solves()) return;
+  std::string why = symmetric_solver_refusal(model_);
+  if (why.empty()) why = "linear solver " + model_.linear_solver.type + " takes symmetric systems only, and this "
+                         "model's are unsymmetric: use auto, umfpack or mumps";
+  throw InputError(model_.linear_solver_where.empty() ? model_.deck_path : model_.linear_solver_where, "solver.linear",
+                   why);
 }
 
 bool Analysis::symmetric_solves() const {

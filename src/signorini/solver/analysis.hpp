@@ -199,6 +199,9 @@ class Analysis {
   // Whether the Newton systems are ones a Cholesky factorization (or CG) takes: symmetric, or
   // symmetric bodies with contact multipliers the condensation removes (no Lagrange friction).
   bool symmetric_solves() const;
+  // Throws an InputError at solver.linear when the deck names a solver for symmetric systems
+  // (is_symmetric_only_solver) and the solves are unsymmetric.
+  void refuse_symmetric_only_solver() const;
   void rebuild_pattern();
   void begin_step(int s);
   // One increment, to the step fraction lambda from the last converged state (size dl), in

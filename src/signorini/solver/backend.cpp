@@ -14,8 +14,7 @@ class SerialBackend final : public AlgebraBackend {
   SerialBackend(const LinearSolverSettings& linear, bool three_d)
       : linear_name_(linear.type),
         linear_(linear, three_d),
-        condensed_(linear.type == "auto" || is_amg_solver(linear.type) ? linear : LinearSolverSettings("auto"),
-                   three_d) {}
+        condensed_(condenses(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
   std::string name() const override { return "serial"; }
   Index owned_begin() const override { return 0; }
   Index owned_end() const override { return rows(); }
@@ -75,9 +74,10 @@ class SerialBackend final : public AlgebraBackend {
   int last_iterations() const override { return last_iterations_; }
   std::string last_method() const override { return last_method_; }
   std::string solve(const NewtonSolveRequest& q, const VecX& r, VecX& du) override {
-    // Multiplier contact with the automatic solver or algebraic multigrid (which cannot take
-    // a saddle-point system): the condensed system when its structure allows
-    // (condensed_solve.hpp); another solver chosen in the deck gets the whole system.
+    // Multiplier contact with the automatic solver, algebraic multigrid or a symmetric solver
+    // without pivoting (none of which can take a saddle-point system): the condensed system
+    // when its structure allows (condensed_solve.hpp), solved by that solver; another solver
+    // chosen in the deck (an LU, MUMPS) gets the whole system.
     last_iterations_ = 0;
     linear_.set_tolerance(q.rtol);
     condensed_.set_tolerance(q.rtol);
@@ -85,7 +85,7 @@ class SerialBackend final : public AlgebraBackend {
       throw FatalModelError("linear solver " + linear_name_ + " with condense_contact: false: algebraic multigrid "
                             "cannot take the contact multipliers' saddle point (condense them, or use enforcement: "
                             "penalty, or linear: mumps or umfpack)");
-    if (q.is_multiplier && q.condense_contact && (linear_name_ == "auto" || is_amg_solver(linear_name_))) {
+    if (q.is_multiplier && q.condense_contact && condenses(linear_name_)) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
         last_method_ = "condensed multipliers, " + condensed_.last_method();
@@ -93,11 +93,12 @@ class SerialBackend final : public AlgebraBackend {
         if (condensed_.refinements() > 0) log::debug("    condensed solve: {} refinement steps", condensed_.refinements());
         return "condensed+" + condensed_.last_used();
       }
-      if (is_amg_solver(linear_name_))
+      if (linear_name_ != "auto")
         throw FatalModelError("linear solver " + linear_name_ + " cannot solve this contact system: " +
-                          condensed_.why_not() +
-                          ", and algebraic multigrid cannot take the contact multipliers' saddle point (use "
-                          "enforcement: penalty, or linear: mumps or umfpack)");
+                              condensed_.why_not() + ", and " +
+                              (is_amg_solver(linear_name_) ? "algebraic multigrid" : "a symmetric solver without pivoting") +
+                              " cannot take the contact multipliers' saddle point (use enforcement: penalty, or linear: "
+                              "auto, mumps or umfpack)");
       if (!condense_reported_) {
         log::info("    contact multipliers kept in the linear system ({}): {}",
                   AutoLinearSolver::indefinite_solver(rows(), q.symmetric),
@@ -130,6 +131,11 @@ class SerialBackend final : public AlgebraBackend {
   bool condense_reported_ = false;
   bool iterative_last_ = false;  // the last solve was a Krylov solver's (save_values)
   static bool is_iterative(const std::string& used) { return is_amg_solver(used) || used == "eigen_cg"; }
+  // Whether the deck's solver takes the contact multipliers condensed (it cannot take their
+  // saddle point, or it is `auto`, which condenses when it can).
+  static bool condenses(const std::string& type) {
+    return type == "auto" || is_amg_solver(type) || is_symmetric_only_solver(type);
+  }
 };
 
 }  // namespace

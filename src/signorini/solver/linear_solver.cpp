@@ -253,6 +253,12 @@ std::string AutoLinearSolver::indefinite_solver(Index rows, bool symmetric) {
 
 void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& b, VecX& x) {
   std::string want = choice_.type;
+  // A solver for symmetric systems would solve an unsymmetric one's symmetric part (one
+  // triangle read): refused (the Analysis refuses such a deck before the first solve, naming
+  // why its tangent is unsymmetric; this guards the other callers).
+  if (!symmetric && is_symmetric_only_solver(want))
+    throw SolverError("linear solver " + want + " takes symmetric systems only, and this one is unsymmetric (use auto, "
+                      "umfpack or mumps)");
   const bool skipping = spd_skip_ > 0;  // after a failed Cholesky or Krylov solve: LU
   const bool spd_wanted = symmetric && !skipping;
   if (skipping) --spd_skip_;

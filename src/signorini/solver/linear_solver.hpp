@@ -93,6 +93,13 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
 // which needs the unknowns' layout and cannot take the multipliers' saddle point.
 bool is_petsc_solver(const std::string& name);
 inline bool is_amg_solver(const std::string& name) { return name == "gamg" || name == "hypre"; }
+// Whether a solver takes symmetric matrices only (Cholesky, LDL^T without pivoting, CG): it
+// reads one triangle, so an unsymmetric tangent would be solved as its symmetric part, and it
+// cannot take the contact multipliers' saddle point (the Analysis refuses the first and
+// condenses the second).
+inline bool is_symmetric_only_solver(const std::string& name) {
+  return name == "cholmod" || name == "eigen_ldlt" || name == "eigen_cg";
+}
 // Whether this build has PETSc (SIGNORINI_WITH_PETSC).
 bool petsc_available();
 // The entries of the Cholesky factor of a symmetric matrix's pattern (its lower triangle), from
