@@ -850,17 +850,18 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       r = rows.data();
     }
     PetscErrorCode code = 0;
+    // An entry outside the pattern (a contact constraint that met new DOFs) is not stored but
+    // reported by missed(), as the serial GlobalSystem does: the analysis rebuilds the pattern
+    // and assembles again, so nothing after it is added either. Stored, each new entry would
+    // grow its row in place (an off-diagonal block's new column even disassembles the whole
+    // matrix): a mortar pair with friction on 186k tet10 DOFs on 2 ranks spent more than 10
+    // minutes there at its first line search (docs/performance.md, session 63). The same
+    // between begin_cells and end_cells (since session 64; Nitsche's points shared out add
+    // there) for the rows this rank owns; a row of another rank's goes through PETSc's stash
+    // and is inserted at assembly, beyond this check: stored if new, and reported by missed()'s
+    // count of nonzeros. (PETSc's errors come back as codes: ensure_petsc's handler.)
 #pragma omp critical(signorini_petsc_add)
-    if (in_cells_) {
-      code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
-    } else if (!missed_here_) {
-      // An entry outside the pattern (a contact constraint that met new DOFs) is not stored
-      // but reported by missed(), as the serial GlobalSystem does: the analysis rebuilds the
-      // pattern and assembles again, so nothing after it is added either. Stored, each new
-      // entry would grow its row in place (an off-diagonal block's new column even disassembles
-      // the whole matrix): a mortar pair with friction on 186k tet10 DOFs on 2 ranks spent more
-      // than 10 minutes there at its first line search (docs/performance.md, session 63).
-      // (PETSc's errors come back as codes: ensure_petsc's handler.)
+    if (!missed_here_) {
       MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE);
       code = MatSetValues(A_, n, r, n, idx.data(), k.data(), ADD_VALUES);
       MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_FALSE);
