@@ -334,3 +334,25 @@ TEST(Hertz, SymmetricSolversTakeTheMultipliersCondensedAndRefuseAnUnsymmetricTan
   s.solve(a, true, VecX::Ones(2), x);  // declared symmetric: CHOLMOD reads the lower triangle
   EXPECT_LT((VecX(2) << 4 * x(0) - x(1) - 1, -x(0) + 3 * x(1) - 1).finished().norm(), 1e-12);
 }
+
+TEST(Hertz, ABodyHeldOnlyByAnOpenContactIsNamedWhenTheFirstSolveHasNoSupport) {
+  // The 3D sphere pushed by a force onto the block: only its contact holds it. Mortar's
+  // weighted gaps with penalty start open (the pole's weighted gap is an integral of positive
+  // gaps around it), so the first solve has no support. Until session 64 the failure said only
+  // that the model probably lacks supports; it now names the open pair and what to do, and
+  // with Lagrange multipliers (the touching slave nodes start closed) the same deck runs.
+  std::string deck = test::example_deck_text("hertz_sphere_3d");
+  const std::string at = "    slave: SphereSurface\n";
+  ASSERT_NE(deck.find(at), std::string::npos);
+  const std::string penalty = std::string(deck).replace(
+      deck.find(at), at.size(), at + "    discretization: mortar\n    enforcement: {method: penalty}\n");
+  const test::HertzRun open = test::run_deck_text(penalty, "open");
+  EXPECT_FALSE(open.summary.completed);
+  for (const char* part : {"lacks supports", "no contact constraint is closed", "'hertz' (mortar, penalty)",
+                           "enforcement: lagrange"})
+    EXPECT_NE(open.summary.failure.find(part), std::string::npos) << part << " not in: " << open.summary.failure;
+  const std::string lagrange = std::string(deck).replace(deck.find(at), at.size(), at + "    discretization: mortar\n");
+  const test::HertzRun held = test::run_deck_text(lagrange, "held");
+  ASSERT_TRUE(held.summary.completed) << held.summary.failure;
+  for (const auto& c : held.checks) EXPECT_TRUE(c.pass) << c.check.name;
+}

@@ -202,6 +202,9 @@ class Analysis {
   // Throws an InputError at solver.linear when the deck names a solver for symmetric systems
   // (is_symmetric_only_solver) and the solves are unsymmetric.
   void refuse_symmetric_only_solver() const;
+  // For the failure of a first solve without supports: a hint when no contact constraint is
+  // closed (a body held only by its contact), naming the open pairs; empty otherwise.
+  std::string open_contact_hint() const;
   void rebuild_pattern();
   void begin_step(int s);
   // One increment, to the step fraction lambda from the last converged state (size dl), in
