@@ -24,11 +24,12 @@ std::vector<std::string> unsymmetric_tangent_reasons(const Model& model) {
   return why;
 }
 
-std::string symmetric_solver_refusal(const Model& model) {
+std::string symmetric_solver_refusal(const Model& model, bool unsymmetric) {
   const std::string& type = model.linear_solver.type;
   if (!is_symmetric_only_solver(type)) return "";
-  const std::vector<std::string> why = unsymmetric_tangent_reasons(model);
-  if (why.empty()) return "";
+  std::vector<std::string> why = unsymmetric_tangent_reasons(model);
+  if (why.empty() && !unsymmetric) return "";
+  if (why.empty()) why.push_back("an unsymmetric tangent");
   return fmt::format("linear solver {} takes symmetric systems only, and this model's are unsymmetric ({}): use auto, "
                      "umfpack{}",
                      type, fmt::join(why, "; "), petsc_available() ? " or mumps" : " or eigen_lu");

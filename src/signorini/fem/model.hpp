@@ -160,10 +160,11 @@ struct Model {
 // is condensed to a symmetric system). The Analysis' own test is Analysis::symmetric_solves.
 std::vector<std::string> unsymmetric_tangent_reasons(const Model& model);
 // The refusal of a solver for symmetric systems only (is_symmetric_only_solver) named for a
-// model whose systems are unsymmetric; empty when there is none to make. Until session 64 such
+// model whose systems are unsymmetric (by unsymmetric_tangent_reasons, or `unsymmetric`: the
+// Analysis' own verdict), naming the reasons; empty when there is none to make. Until session 64 such
 // a solver solved the tangent's symmetric part (one triangle read): examples/friction_block with
 // cholmod took 73 Newton iterations against 28, examples/cattaneo_cylinder gave up after its
 // cutbacks, with eigen_ldlt it ran past 5 minutes.
-std::string symmetric_solver_refusal(const Model& model);
+std::string symmetric_solver_refusal(const Model& model, bool unsymmetric = false);
 
 }  // namespace signorini

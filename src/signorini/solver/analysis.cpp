@@ -336,11 +336,8 @@ std::string Analysis::contact_evaluation() const {
 // backend condenses it.)
 void Analysis::refuse_symmetric_only_solver() const {
   if (!is_symmetric_only_solver(model_.linear_solver.type) || symmetric_solves()) return;
-  std::string why = symmetric_solver_refusal(model_);
-  if (why.empty()) why = "linear solver " + model_.linear_solver.type + " takes symmetric systems only, and this "
-                         "model's are unsymmetric: use auto, umfpack or mumps";
   throw InputError(model_.linear_solver_where.empty() ? model_.deck_path : model_.linear_solver_where, "solver.linear",
-                   why);
+                   symmetric_solver_refusal(model_, true));
 }
 
 bool Analysis::symmetric_solves() const {
