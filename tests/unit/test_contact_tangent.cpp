@@ -648,3 +648,74 @@ TEST(Friction, UnmovedIncrementStartsInStick) {
     EXPECT_EQ(statuses(true), own) << "a moved increment keeps the return map's choice";
   }
 }
+
+// The chattering guard's open/closed hold acts on penalty and the augmented Lagrangian as on
+// the multipliers: a node held closed keeps p = lambda-bar - eps g with the bodies apart (a
+// tensile p, which fix_held_nodes then releases), and one held open puts no force while it
+// penetrates. Until session 65 Penalty::assemble ignored the hold: the log said the nodes were
+// held, and the next iterate decided their status afresh.
+TEST(ChatteringGuard, PenaltyAndAugmentedLagrangianHonourTheOpenClosedHold) {
+  for (const char* method : {"penalty", "augmented_lagrangian"}) {
+    for (const bool hold_closed : {true, false}) {
+      SCOPED_TRACE(std::string(method) + (hold_closed ? ", held closed" : ", held open"));
+      FrictionBlocks blocks(method);
+      Mesh& mesh = blocks.mesh;
+      const DofMap& dofs = blocks.dofs;
+      ContactPairSettings& cs = blocks.cs;
+      cs.friction = "none";
+      // Closed, open, closed: the third change holds closed (max_flips 2); closed, open: the
+      // second holds open (max_flips 1).
+      cs.max_flips = hold_closed ? 2 : 1;
+      const Index nz = dofs.num_dofs();
+      auto lifted = [&](Real s) {
+        VecX z = VecX::Zero(nz);
+        for (Index n : mesh.node_sets["upper_domain"]) z(dofs.dof(n, 1)) = s;
+        return z;
+      };
+      const VecX pressed = lifted(-0.005), apart = lifted(0.03);
+      ContactInterface ci(cs, mesh, blocks.as, 100.0, false);
+      ci.detect(test::cells_of_positions(mesh, dofs, pressed), 0.1);
+      ci.begin_increment(test::cells_of_positions(mesh, dofs, pressed), pressed);
+      VecX r;
+      auto evaluate = [&](const VecX& z) {
+        r = VecX::Zero(nz);
+        ci.assemble(test::cells_of_positions(mesh, dofs, z), z, dofs, r, nullptr);
+      };
+      auto closed = [&] {
+        Index n = 0;
+        for (char a : ci.state().active) n += a != 0;
+        return n;
+      };
+      evaluate(pressed);
+      const Index touching = closed();
+      ASSERT_GT(touching, 0);
+      ASSERT_GT(r.norm(), 0);
+      evaluate(apart);
+      ASSERT_EQ(closed(), 0) << "lifted clear, every node is open";
+      // The accepted iterates: pressed, apart (, pressed).
+      for (int k = 0; k <= cs.max_flips; ++k) {
+        evaluate(k % 2 == 0 ? pressed : apart);
+        ci.count_status_changes();
+      }
+      if (hold_closed) {
+        evaluate(apart);
+        EXPECT_EQ(closed(), touching) << "held closed, the nodes stay closed with the bodies apart";
+        Real most = -1e300;
+        for (size_t j = 0; j < ci.state().active.size(); ++j)
+          if (ci.state().active[j]) most = std::max(most, ci.state().pressure[j]);
+        EXPECT_LT(most, 0) << "apart, a held node's pressure is tensile";
+        EXPECT_GT(r.norm(), 0) << "and it pulls the bodies together";
+        EXPECT_EQ(ci.frozen_in_tension(), touching);
+        EXPECT_EQ(ci.fix_held_nodes(), touching) << "held closed in tension: held open instead";
+        evaluate(apart);
+        EXPECT_EQ(closed(), 0);
+        EXPECT_EQ(r.norm(), 0);
+      } else {
+        evaluate(pressed);
+        EXPECT_EQ(closed(), 0) << "held open, the nodes stay open while they penetrate";
+        EXPECT_EQ(r.norm(), 0) << "and put no force on the bodies";
+        EXPECT_EQ(ci.frozen_in_tension(), touching) << "held open and penetrating 0.005 is a violation";
+      }
+    }
+  }
+}

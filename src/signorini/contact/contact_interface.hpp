@@ -153,7 +153,10 @@ class ContactInterface {
   // Holds closed the slave nodes whose gap is in (0, 1e-6 h] (h: their facet size) at
   // positions x, for the increment: "touching" whose sign is the discretization's, not the
   // geometry's (mortar's weighted gap of a node at the contact point of a curved body is of
-  // that size, either sign). Lagrange multipliers only; returns how many.
+  // that size, either sign). Node-based statuses only (multipliers, penalty, the augmented
+  // Lagrangian; not Nitsche's points). Penalty and the augmented Lagrangian: only when no
+  // constraint has g <= 0, and closed without adhesion while touching (Hold::touching).
+  // Returns how many.
   Index hold_touching(const std::vector<Vec3>& x, const VecX& z);
   // After convergence with nodes held by the chattering guard: releases the holds the state
   // does not satisfy exactly (returns how many); a released node is held again at its next

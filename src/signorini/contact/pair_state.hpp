@@ -19,9 +19,18 @@ enum class Hold : signed char {
   closed,    // held closed (changed status more than max_flips times)
   open,      // held open
   released,  // was held closed, ended in tension: held open for the rest of the increment
+  // Penalty and the augmented Lagrangian, from the undeformed state (hold_touching): closed,
+  // with p = <lambda-bar - eps g> >= 0, while the gap is within kTouching of the facet size; free
+  // otherwise. Not a hold of the guard: the node gets the stiffness a body held only by contact
+  // needs at its first solve and no adhesion, and leaves the branch as soon as it separates.
+  touching,
 };
 inline bool held_closed(Hold h) { return h == Hold::closed; }
 inline bool held_open(Hold h) { return h == Hold::open || h == Hold::released; }
+// Whether the chattering guard holds the node (touching is not the guard's).
+inline bool guard_hold(Hold h) { return h != Hold::none && h != Hold::touching; }
+// "Touching": a gap in (0, kTouching h], h the node's facet size (ContactInterface::hold_touching).
+constexpr double kTouching = 1e-6;
 
 struct NodeRecord {
   // Set once, from the mesh and the settings.

@@ -1054,14 +1054,13 @@ void Analysis::solve_newton_step(int it, const NewtonSettings& ns, const VecX& R
 }
 
 // A body held only by its contact (a sphere pushed by a force onto a block) has no support at
-// the first solve unless a contact constraint is closed there. Lagrange multipliers start the
-// slave nodes that touch closed (hold_touching); penalty closes a constraint at zero gap, which
-// mortar's weighted gaps (integrals of the gap around the node) and Nitsche's integration
-// points away from the touching point do not reach: measured on examples/hertz_sphere_3d under
-// its force, mortar with penalty or Nitsche and segment_to_segment with Nitsche stop at the
-// first solve, node_to_segment and segment_to_segment with penalty and every Lagrange pair
-// run. The failure then names the open pairs and what to do instead of leaving the
-// supports suspect alone.
+// the first solve unless a contact constraint is closed there. The node-based methods
+// (multipliers, penalty, the augmented Lagrangian) start the slave nodes that touch closed
+// (hold_touching; penalty since session 65); Nitsche's integration points away from the
+// touching point start open: measured on examples/hertz_sphere_3d under its force, mortar and
+// segment_to_segment with Nitsche stop at the first solve, every node-based pair runs. The
+// failure then names the open pairs and what to do instead of leaving the supports suspect
+// alone.
 std::string Analysis::open_contact_hint() const {
   std::vector<std::string> open;
   for (const auto& c : contacts_) {
@@ -1071,9 +1070,10 @@ std::string Analysis::open_contact_hint() const {
   }
   if (open.empty()) return "";
   return fmt::format("; or a body held only by its contact: no contact constraint is closed at this solve (pair{} {}). "
-                     "Lagrange multipliers start the slave nodes that touch closed; penalty and Nitsche's method start "
-                     "none closed where the gap is not yet zero at their points. Use enforcement: lagrange, or bring the "
-                     "bodies into contact by a prescribed displacement first",
+                     "The node-based methods (lagrange, penalty, augmented_lagrangian) start closed the slave nodes "
+                     "that touch (a gap within 1e-6 of their facet size); Nitsche's method starts none closed where the "
+                     "gap is not yet zero at its points. Use enforcement: lagrange (or penalty) with the bodies touching, "
+                     "or bring the bodies into contact by a prescribed displacement first",
                      open.size() > 1 ? "s" : "", fmt::join(open, ", "));
 }
 

@@ -215,13 +215,21 @@ class Penalty : public Enforcement {
           const Index j = coloring.items[item];
           const Constraint& c = cs[j];
           // g = 0 counts as closed (zero force, but its stiffness): a body held only by contact
-          // can then start from touching. Augmented Lagrangian: the shift lambda-bar.
+          // can then start from touching; so does a gap within kTouching of the facet size
+          // in the first increment (Hold::touching: mortar's weighted gap at a point contact is
+          // of that size, either sign). Augmented Lagrangian: the shift lambda-bar. The
+          // chattering guard's hold decides where it is set (ContactInterface): held open, no
+          // force even if penetrating; held closed, p = lambda-bar - eps g whatever its sign
+          // (a tensile p is released after convergence, fix_held_nodes), as the multipliers'
+          // active set does.
           if (c.kind == ConstraintKind::none) continue;
           const NodeRecord& node = (*in.nodes)[j];
           const Real eps = node.stiffness;
           const Real shift = node.shift;
-          if (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0)) continue;
-          const Real p = shift - eps * c.gap;
+          if (held_open(node.hold)) continue;
+          const bool touching = node.hold == Hold::touching && c.gap <= kTouching * node.size;
+          if (!held_closed(node.hold) && !touching && (shift - eps * c.gap < 0 || (shift == 0 && c.gap > 0))) continue;
+          const Real p = touching ? std::max(shift - eps * c.gap, Real(0)) : shift - eps * c.gap;
           out.pressure[j] = p;
           out.active[j] = 1;
           constraint_dofs(c, *in.dofs, in.dim, dofs);
