@@ -112,5 +112,28 @@ TEST(Stabilization, ArchSnapsThroughToTheInvertedEquilibrium) {
     EXPECT_NEAR(s.checks[0].computed, u_ref, 1e-3 * std::abs(u_ref)) << "alpha " << alpha;
     EXPECT_LT(last, 1e-4) << "the stabilization force left at the end";
     EXPECT_GT(peak, 0) << "the stabilization force is not reported";
+    EXPECT_TRUE(s.summary.warnings.empty()) << "alpha " << alpha << ": " << s.summary.warnings.front();
   }
+}
+
+// A stabilization too strong for its increments ends a step with the stabilizing force a large
+// share of the load: the state is an equilibrium with that force, not the model's. The step's
+// end says so (log and summary.json's warnings; since session 65: before, only the increments'
+// |f_v|/F told). The arch below its limit load (5 of 11.6) in one increment, alpha = 1.
+TEST(Stabilization, AStepEndingWithALargeStabilizingForceIsWarnedAbout) {
+  const test::HertzRun plain = test::run_deck_text(arch_deck(step("load", 5, 1.0), kNoContinuation), "arch_small");
+  ASSERT_TRUE(plain.summary.completed) << plain.summary.failure;
+  EXPECT_TRUE(plain.summary.warnings.empty());
+  const test::HertzRun s = test::run_deck_text(
+      arch_deck(step("load", 5, 1.0), "solver: {stabilization: 1, pseudo_transient: false}\n"), "arch_strong");
+  ASSERT_TRUE(s.summary.completed) << s.summary.failure;
+  const Real last = s.summary.increments.back().stabilization_ratio;
+  std::printf("alpha 1: crown %.6f against %.6f without it, |f_v|/F %.3f\n", s.checks[0].computed,
+              plain.checks[0].computed, last);
+  ASSERT_GT(last, 1e-2) << "the precondition: a stabilizing force above 1 % of the load";
+  EXPECT_GT(std::abs(s.checks[0].computed - plain.checks[0].computed), 1e-2 * std::abs(plain.checks[0].computed))
+      << "the precondition: the answer is off";
+  ASSERT_EQ(s.summary.warnings.size(), 1u);
+  for (const char* part : {"step 'load'", "stabilizing force", "solver.stabilization", "not the model's"})
+    EXPECT_NE(s.summary.warnings[0].find(part), std::string::npos) << part << " not in: " << s.summary.warnings[0];
 }

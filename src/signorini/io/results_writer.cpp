@@ -501,6 +501,9 @@ void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, cons
   j += fmt::format("  \"title\": \"{}\",\n  \"deck\": \"{}\",\n  \"status\": \"{}\",\n", json_escape(m.title),
                    json_escape(m.deck_path), status);
   j += fmt::format("  \"failure\": {},\n", s.failure.empty() ? "null" : "\"" + json_escape(s.failure) + "\"");
+  j += "  \"warnings\": [";
+  for (size_t i = 0; i < s.warnings.size(); ++i) j += fmt::format("{}\"{}\"", i ? ", " : "", json_escape(s.warnings[i]));
+  j += "],\n";
   j += fmt::format("  \"analysis\": {{\"dimension\": \"{}\", \"kinematics\": \"{}\"}},\n",
                    to_string(m.settings.dimension), m.settings.finite_strain ? "finite_strain" : "small_strain");
   j += fmt::format("  \"nodes\": {},\n  \"cells\": {},\n  \"dofs\": {},\n", m.mesh.num_nodes(), m.mesh.num_cells(),

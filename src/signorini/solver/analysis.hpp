@@ -71,6 +71,10 @@ struct AnalysisSummary {
   // internal force is linear in u (the others put back the one kept: Analysis::evaluate).
   int tangent_evaluations = 0, linear_tangent_assemblies = 0;
   int first_step = 0;          // > 0: continued from a restart file written after that many steps
+  // What a completed run should be read with (also logged as warnings): a step that ended with
+  // the stabilizing force above 1 % of the force scale (its state is an equilibrium with that
+  // artificial force, not the model's).
+  std::vector<std::string> warnings;
 };
 
 // The deck's linear solver settings with what the analysis decides for them (GAMG's
@@ -180,6 +184,8 @@ class Analysis {
   // Adds c to the diagonal of every free displacement row of the global matrix.
   void add_free_diagonal(Real c);
   Real add_stabilization(VecX& fint, bool tangent);
+  // At a step's end: a warning (log and summary) when the stabilizing force is above 1 % of the force scale.
+  void warn_stabilization(const Step& step);
   // `cell_loads` (partitioned assembly): where the body forces go, from this rank's own cells
   // (summed over the ranks by the caller); null: into fext.
   void add_loads(const std::vector<Load>& loads, Real scale, VecX& fext, bool tangent, VecX* cell_loads = nullptr);
