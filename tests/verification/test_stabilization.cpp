@@ -14,6 +14,8 @@
 #include <cstdio>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "hertz_runner.hpp"
 
@@ -136,4 +138,23 @@ TEST(Stabilization, AStepEndingWithALargeStabilizingForceIsWarnedAbout) {
   ASSERT_EQ(s.summary.warnings.size(), 1u);
   for (const char* part : {"step 'load'", "stabilizing force", "solver.stabilization", "not the model's"})
     EXPECT_NE(s.summary.warnings[0].find(part), std::string::npos) << part << " not in: " << s.summary.warnings[0];
+  // The program: the warning repeated after its last line, and in summary.json.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "signorini_strong_stabilization";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string deck = (dir / "arch.yaml").string();
+  std::ofstream(deck) << arch_deck(step("load", 5, 1.0), "solver: {stabilization: 1, pseudo_transient: false}\n");
+  const int rc = std::system((std::string(SIGNORINI_BINARY) + " run -q " + deck + " -o " + (dir / "out").string() +
+                              " > " + (dir / "log").string() + " 2>&1").c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_NE(WEXITSTATUS(rc), 2) << "the run completes";
+  auto text = [](const std::filesystem::path& p) {
+    std::ifstream f(p);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  const std::string log = text(dir / "log"), json = text(dir / "out" / "summary.json");
+  const size_t tail = log.find("Read these results with this warning:");
+  ASSERT_NE(tail, std::string::npos) << log;
+  EXPECT_NE(log.find("  - step 'load' ended with the stabilizing force", tail), std::string::npos) << log;
+  EXPECT_NE(json.find("\"warnings\": [\"step 'load' ended with the stabilizing force"), std::string::npos) << json;
 }

@@ -159,6 +159,11 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   }
   fmt::print("\nResults in {}/: ParaView {}, reactions {}/reactions.csv, summary {}/summary.json\n", dir,
              writer.pvd_path(), dir, dir);
+  // Said where they arose, perhaps thousands of lines back: repeated where the run ends.
+  if (!s.warnings.empty()) {
+    fmt::print("\nRead these results with {}:\n", s.warnings.size() > 1 ? "these warnings" : "this warning");
+    for (const std::string& w : s.warnings) fmt::print("  - {}\n", w);
+  }
   return all ? 0 : 3;
 }
 

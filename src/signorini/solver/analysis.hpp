@@ -71,9 +71,9 @@ struct AnalysisSummary {
   // internal force is linear in u (the others put back the one kept: Analysis::evaluate).
   int tangent_evaluations = 0, linear_tangent_assemblies = 0;
   int first_step = 0;          // > 0: continued from a restart file written after that many steps
-  // What a completed run should be read with (also logged as warnings): a step that ended with
-  // the stabilizing force above 1 % of the force scale (its state is an equilibrium with that
-  // artificial force, not the model's).
+  // What a completed run should be read with (logged as warnings where they arise; main repeats
+  // them after its last line): a step that ended with the stabilizing force above 1 % of the
+  // force scale (its state is an equilibrium with that artificial force, not the model's).
   std::vector<std::string> warnings;
 };
 
