@@ -106,6 +106,11 @@ class Analysis {
   const DofMap& dofs() const { return dofs_; }
   // How the algebra is shared between MPI ranks: "serial", or a sentence (main prints it).
   const std::string& algebra() const { return algebra_; }
+  // Whether the Newton systems are ones a Cholesky factorization (or CG) takes: symmetric, or
+  // symmetric bodies with contact multipliers the condensation removes (no Lagrange friction).
+  // The deck reader decides the same from the Model alone (unsymmetric_tangent_reasons, to name
+  // the key and line); tests/verification/test_hertz.cpp holds the two together on every example.
+  bool symmetric_solves() const;
   // How the ranks share the contact evaluation out (summary.json; the log under mpirun):
   // "no contact pair", "one process", or with several ranks which pairs' evaluation each rank
   // does a share of.
@@ -202,9 +207,6 @@ class Analysis {
   void report_contact_pressures();
   // Rebuilds the sparse pattern from the cells and the contact couplings.
   void choose_algebra();
-  // Whether the Newton systems are ones a Cholesky factorization (or CG) takes: symmetric, or
-  // symmetric bodies with contact multipliers the condensation removes (no Lagrange friction).
-  bool symmetric_solves() const;
   // Throws an InputError at solver.linear when the deck names a solver for symmetric systems
   // (is_symmetric_only_solver) and the solves are unsymmetric.
   void refuse_symmetric_only_solver() const;
