@@ -1091,10 +1091,10 @@ std::string Analysis::open_contact_hint() const {
   if (open.empty()) return "";
   return fmt::format("; or a body held only by its contact: no contact constraint is closed at this solve (pair{} {}). "
                      "The node-based methods (lagrange, penalty, augmented_lagrangian) start closed the slave nodes "
-                     "that touch (a gap within 1e-6 of their facet size); Nitsche's method starts none closed where the "
+                     "that touch (a gap within {:g} of their facet size); Nitsche's method starts none closed where the "
                      "gap is not yet zero at its points. Use enforcement: lagrange (or penalty) with the bodies touching, "
                      "or bring the bodies into contact by a prescribed displacement first",
-                     open.size() > 1 ? "s" : "", fmt::join(open, ", "));
+                     open.size() > 1 ? "s" : "", fmt::join(open, ", "), kTouching);
 }
 
 void Analysis::limit_turn(VecX& du) const {
