@@ -54,17 +54,19 @@ inline HertzRun run_deck_text(const std::string& deck, const std::string& stem) 
   return out;
 }
 
-// A shipped example's deck (examples/<example>/<example>.yaml) with its mesh path made
-// absolute, since the temporary deck lives elsewhere.
-inline std::string example_deck_text(const std::string& example) {
-  namespace fs = std::filesystem;
-  const fs::path src = fs::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml");
+// A deck's text with its mesh path made absolute, since the temporary deck lives elsewhere.
+inline std::string deck_text(const std::filesystem::path& src) {
   std::ifstream in(src);
   std::stringstream ss;
   ss << in.rdbuf();
   std::string deck = ss.str();
   deck.insert(deck.find("file: ") + 6, (src.parent_path() / "").string());
   return deck;
+}
+
+// A shipped example's deck (examples/<example>/<example>.yaml), its mesh path absolute.
+inline std::string example_deck_text(const std::string& example) {
+  return deck_text(std::filesystem::path(SIGNORINI_SOURCE_DIR) / "examples" / example / (example + ".yaml"));
 }
 
 // `enforcement` (optional: deck lines, e.g. "enforcement: {method: penalty}\n    discretization:
