@@ -429,5 +429,47 @@ TEST(CondensedSolve, FrictionBlocksRefuseANodeWithoutDofsOfItsOwn) {
   EXPECT_EQ(solver.block_analyses(), analyses + 3);
 }
 
+// `auto`'s forecast of a factorization against the Krylov solves it sent to GAMG
+// (FactorizationForecast, linear_solver.hpp: t_Krylov / t_LU = 10 K nnz / n^2), on the inputs
+// of the runs it was measured on (docs/performance.md, session 66; whole systems' unknowns and
+// nonzeros, Krylov iterations per solve): each on the side that was faster.
+TEST(FactorizationForecast, PutsTheMeasuredRunsOnTheSideThatWasFaster) {
+  struct Run {
+    const char* name;
+    long krylov;
+    Index rows, nonzeros;
+    bool lu_was_faster;
+  };
+  const Run runs[] = {
+      {"tet10 CalculiX quarter, segment_to_segment (LU 13x faster)", 89, 31308, 3588120, true},
+      {"tet10 sphere hc 0.02, mortar (LU 5x faster)", 108, 30838, 5705278, true},
+      {"tet4 sphere hc 0.008, segment_to_segment (LU 1.5x faster)", 55, 27304, 2348374, true},
+      {"tet4 sphere hc 0.006, mortar (GAMG 1.7x faster)", 30, 54415, 4183279, false},
+      {"tet4 sphere hc 0.005, mortar (GAMG 3.2x faster)", 30, 85831, 6288151, false},
+      {"tet4 sphere hc 0.008, node_to_segment (GAMG 2.2x faster)", 11, 27304, 1421446, false},
+      {"tet4 sphere hc 0.004, mortar, session 61 (GAMG 7x faster; 11-54 Krylov per solve)", 54, 154308, 10560594, false},
+  };
+  for (const Run& r : runs) {
+    FactorizationForecast f;
+    EXPECT_EQ(f.record(r.krylov, r.rows, r.nonzeros), r.lu_was_faster) << r.name << ": forecast " << f.ratio();
+    EXPECT_EQ(f.favours_factorization(), r.lu_was_faster) << r.name;
+  }
+}
+
+// The mean over the solves so far decides (the first solve of an increment takes fewer Krylov
+// iterations), and once it favours the factorization the decision is kept.
+TEST(FactorizationForecast, DecidesOnTheMeanAndKeepsTheDecision) {
+  FactorizationForecast f;
+  EXPECT_FALSE(f.record(13, 31308, 3625926));  // the tet10 quarter's first solve, mortar
+  EXPECT_NEAR(f.ratio(), 10.0 * 13 * 3625926 / (31308.0 * 31308.0), 1e-12);
+  EXPECT_TRUE(f.record(45, 31308, 3625926));  // its second: mean 29
+  EXPECT_DOUBLE_EQ(f.mean_iterations(), 29.0);
+  EXPECT_TRUE(f.record(0, 31308, 3625926));  // kept
+  EXPECT_DOUBLE_EQ(f.mean_iterations(), 29.0);
+  EXPECT_NE(f.describe(31308, 3625926, "mumps").find("29 Krylov iterations per solve"), std::string::npos);
+  FactorizationForecast empty;
+  EXPECT_FALSE(empty.record(10, 0, 0));
+}
+
 }  // namespace
 }  // namespace signorini

@@ -13,6 +13,7 @@ class SerialBackend final : public AlgebraBackend {
  public:
   SerialBackend(const LinearSolverSettings& linear, bool three_d)
       : linear_name_(linear.type),
+        iterative_above_(linear.iterative_above),
         linear_(linear, three_d),
         condensed_(condenses(linear.type) ? linear : LinearSolverSettings("auto"), three_d) {}
   std::string name() const override { return "serial"; }
@@ -85,12 +86,17 @@ class SerialBackend final : public AlgebraBackend {
       throw FatalModelError("linear solver " + linear_name_ + " with condense_contact: false: algebraic multigrid "
                             "cannot take the contact multipliers' saddle point (condense them, or use enforcement: "
                             "penalty, or linear: mumps or umfpack)");
-    if (q.is_multiplier && q.condense_contact && condenses(linear_name_)) {
+    // `auto`, once its forecast favours a factorization of the whole system over the Krylov
+    // solves it sent to GAMG at any size in 3D (FactorizationForecast, recorded below): the
+    // whole system to LU, multipliers and all, for the rest of the run.
+    const bool factorize = forecast_.favours_factorization();
+    if (q.is_multiplier && q.condense_contact && condenses(linear_name_) && !factorize) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
         last_method_ = "condensed multipliers, " + condensed_.last_method();
         iterative_last_ = is_iterative(condensed_.last_used());
         if (condensed_.refinements() > 0) log::debug("    condensed solve: {} refinement steps", condensed_.refinements());
+        forecast(condensed_.last_used());
         return "condensed+" + condensed_.last_used();
       }
       if (linear_name_ != "auto")
@@ -111,17 +117,19 @@ class SerialBackend final : public AlgebraBackend {
     // `auto` sends it in 3D to GMRES over GAMG at any size, as friction's multiplier blocks,
     // falling back to LU where GMRES fails (measured on the 3D Hertz sphere with penalty
     // friction: 3.5x faster than MUMPS's LU at 15k unknowns, 5-6x at 35k; docs/performance.md).
-    linear_.set_unsymmetric_amg(!q.is_multiplier);
-    linear_.set_unsymmetric_amg_any_size(!q.is_multiplier);
+    linear_.set_unsymmetric_amg(!q.is_multiplier && !factorize);
+    linear_.set_unsymmetric_amg_any_size(!q.is_multiplier && !factorize);
     linear_.solve(system_.matrix(), q.symmetric, r, du);
     last_iterations_ = linear_.last_iterations();
     last_method_ = linear_.last_method();
     iterative_last_ = is_iterative(linear_.last_used());
+    forecast(linear_.last_used());
     return linear_.last_used();
   }
 
  private:
   std::string linear_name_;
+  Index iterative_above_;
   int last_iterations_ = 0;
   std::string last_method_;
   SparseSystem system_;
@@ -130,6 +138,15 @@ class SerialBackend final : public AlgebraBackend {
   CondensedContactSolver condensed_;
   bool condense_reported_ = false;
   bool iterative_last_ = false;  // the last solve was a Krylov solver's (save_values)
+  FactorizationForecast forecast_;
+  // After a solve by `used`: `auto`'s GAMG at or below iterative_above (where it goes only for
+  // unsymmetric 3D systems, at any size; not after a Cholesky factor was found too large) is
+  // recorded in the forecast, which may send the next solves whole to LU (logged once).
+  void forecast(const std::string& used) {
+    if (linear_name_ != "auto" || !is_amg_solver(used) || rows() > iterative_above_ || linear_.factor_too_large()) return;
+    if (forecast_.record(last_iterations_, rows(), nonzeros()))
+      log::info("{}", forecast_.describe(rows(), nonzeros(), AutoLinearSolver::indefinite_solver(rows(), false)));
+  }
   static bool is_iterative(const std::string& used) { return is_amg_solver(used) || used == "eigen_cg"; }
   // Whether the deck's solver takes the contact multipliers condensed (it cannot take their
   // saddle point, or it is `auto`, which condenses when it can).

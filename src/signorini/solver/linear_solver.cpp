@@ -330,4 +330,21 @@ void AutoLinearSolver::solve(const SparseMatrix& a, bool symmetric, const VecX& 
                     "mechanism?) or not positive definite" + (why == "failed" ? "" : " (" + why + ")"));
 }
 
+bool FactorizationForecast::record(long krylov_iterations, Index rows, Index nonzeros) {
+  if (favours_ || rows <= 0) return favours_;
+  iterations_ += krylov_iterations;
+  ++solves_;
+  const Real n = static_cast<Real>(rows);
+  ratio_ = kConstant * mean_iterations() * static_cast<Real>(nonzeros) / (n * n);
+  favours_ = ratio_ > 1;
+  return favours_;
+}
+
+std::string FactorizationForecast::describe(Index rows, Index nonzeros, const std::string& factorization) const {
+  return fmt::format("    linear solver auto: GMRES over GAMG took {:.0f} Krylov iterations per solve on {} unknowns ({} "
+                     "nonzeros): a factorization forecast {:.1f}x faster (t_Krylov / t_LU = {} K nnz / n^2, "
+                     "docs/performance.md); the whole system to {} from the next solve on",
+                     mean_iterations(), rows, nonzeros, ratio_, kConstant, factorization);
+}
+
 }  // namespace signorini

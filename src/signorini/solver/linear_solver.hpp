@@ -226,4 +226,36 @@ class AutoLinearSolver {
   std::string last_name_ = "none";
 };
 
+// `auto`'s forecast for the systems it sends to GMRES over GAMG at any size in 3D (Lagrange
+// friction's condensed blocks, on their own DOFs or shared ones; penalty friction's and follower
+// pressure's displacement systems): whether a factorization of the whole system (MUMPS's LU)
+// would take less time. The work of a sparse factorization of a 3D mesh grows like n^2
+// (nested dissection's separators; George 1973, Lipton, Rose & Tarjan 1979), a Krylov solve's
+// like K nnz (K iterations, each a product with the matrix and a multigrid cycle over it).
+// Their time ratio t_Krylov / t_LU = C K nnz / n^2, with the whole system's n unknowns and nnz
+// entries and K the Krylov iterations per solve (the mean over the run's Krylov solves so far),
+// was measured on this 2-core machine (docs/performance.md, session 66) at C = 7-22 over the
+// frictional 3D Hertz sphere (tet4 and tet10, mortar, segment_to_segment and node_to_segment,
+// 11k to 86k unknowns) and session 61's and 63's runs at 148k and 186k unknowns: kConstant = 10
+// puts each of them on the side that was faster. Only asked at or below iterative_above (the
+// factorization's memory).
+class FactorizationForecast {
+ public:
+  static constexpr Real kConstant = 10;
+  // Records a Krylov solve of `krylov_iterations` on a system of `rows` unknowns and `nonzeros`
+  // entries. True when the forecast favours the factorization: from then on (kept for the run).
+  bool record(long krylov_iterations, Index rows, Index nonzeros);
+  bool favours_factorization() const { return favours_; }
+  Real ratio() const { return ratio_; }  // the last forecast of t_Krylov / t_LU
+  Real mean_iterations() const { return solves_ > 0 ? static_cast<Real>(iterations_) / solves_ : 0.0; }
+  // The log line of the decision, for a system of `rows` unknowns going to `factorization`.
+  std::string describe(Index rows, Index nonzeros, const std::string& factorization) const;
+
+ private:
+  long iterations_ = 0;
+  int solves_ = 0;
+  Real ratio_ = 0;
+  bool favours_ = false;
+};
+
 }  // namespace signorini

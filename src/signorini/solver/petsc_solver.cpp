@@ -937,9 +937,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         --direct_skip_;
         return solve_whole_direct(q, r, du);
       }
+      // Once the forecast favours a factorization of the whole system (forecast_krylov):
+      // MUMPS for the rest of the run.
+      if (s_.direct_fallback && forecast_.favours_factorization()) return solve_whole_direct(q, r, du);
       try {
         std::string used = solve_condensed(q, r, du);
         direct_backoff_ = 1;
+        forecast_krylov();
         return used;
       } catch (const CannotCondense& e) {
         if (!s_.direct_fallback) throw;
@@ -963,8 +967,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // after each failure in a row, as one process's `auto` falls back to LU. The Krylov
     // solver's verdict is collective, so every rank takes the same branch.
     const bool fallback = s_.direct_fallback && !q.symmetric && !q.is_multiplier;
-    if (fallback && direct_skip_ > 0) {
-      --direct_skip_;
+    if (fallback && (direct_skip_ > 0 || forecast_.favours_factorization())) {
+      if (direct_skip_ > 0) --direct_skip_;
       return solve_whole_direct(q, r, du);
     }
     if (q.symmetric != symmetric_ || !ksp_) configured_ = false;
@@ -977,7 +981,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     set_owned(b_, r);
     try {
       krylov(A_, b_, x_);
-      if (fallback) direct_backoff_ = 1;
+      if (fallback) {
+        direct_backoff_ = 1;
+        forecast_krylov();
+      }
     } catch (const FatalModelError&) {
       throw;
     } catch (const SolverError& e) {
@@ -1000,6 +1007,15 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     CannotCondense(const std::string& message, std::string reason) : FatalModelError(message), why(std::move(reason)) {}
     std::string why;
   };
+  // After a Krylov solve of `auto`'s algebraic multigrid at or below iterative_above (where it
+  // goes only for unsymmetric 3D systems, at any size): recorded in the forecast of a
+  // factorization (FactorizationForecast, linear_solver.hpp), which may send the next solves
+  // whole to MUMPS (logged once; every rank records the same collective Krylov counts).
+  void forecast_krylov() {
+    if (!s_.direct_fallback || n_ > s_.iterative_above) return;
+    if (forecast_.record(iterations_, n_, pattern_nonzeros_))
+      log::info("{}", forecast_.describe(n_, pattern_nonzeros_, fmt::format("mumps on {} ranks", size_)));
+  }
   // After a failure of `auto`'s algebraic multigrid: MUMPS on the whole system for this solve and
   // the next 1, 2, 4, ... after each failure in a row (direct_skip_, direct_backoff_), logged
   // with `message` (made once the skip is set).
@@ -2095,6 +2111,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   bool direct_multipliers_ = false;  // ... with contact multipliers (else after GMRES failed)
   std::string direct_method_;
   int direct_skip_ = 0, direct_backoff_ = 1;  // solves left whole after a failed condensation, and the next run's length
+  FactorizationForecast forecast_;  // forecast_krylov()
   Real tolerance_ = 0;  // the Newton iteration's forcing term (NewtonSolveRequest::rtol)
   Real configured_rtol_ = 0;  // configure_ksp's
   Index n_ = 0, padded_ = 0, rstart_ = 0, rend_ = 0, pattern_nonzeros_ = 0;
