@@ -187,9 +187,11 @@ void register_linear_solvers(Registry& r) {
          "UMFPACK) when Cholesky or the iterative solver fails. Lagrange friction on a 3D model (with PETSc; in 2D "
          "above iterative_above): its multipliers condensed node by node, GMRES over gamg. Unsymmetric systems "
          "without multipliers on a 3D model (penalty friction, follower pressure; with PETSc): GMRES over gamg, LU "
-         "where it fails. Under mpirun: gamg for symmetric 3D systems above iterative_above (contact multipliers condensed) and for "
+         "where it fails. In both cases, at or below iterative_above, the whole system goes to LU (MUMPS above 10000 "
+         "unknowns) for the rest of the run once a forecast from the Krylov iterations (10 K nnz / n^2 above 1) "
+         "favours the factorization. Under mpirun: gamg for symmetric 3D systems above iterative_above (contact multipliers condensed) and for "
          "unsymmetric 3D systems of any size (Lagrange friction's multipliers condensed, or none), the whole system "
-         "to mumps where they cannot be condensed or where GMRES fails; mumps otherwise.",
+         "to mumps where they cannot be condensed, where GMRES fails, or after the forecast; mumps otherwise.",
          {}});
   r.add({"linear_solver", "cholmod", "SuiteSparse CHOLMOD supernodal Cholesky (symmetric positive definite). Symmetric systems only: a model whose tangent is unsymmetric (friction, follower pressure) is refused; contact multipliers are condensed for it.", {}});
   r.add({"linear_solver", "umfpack", "SuiteSparse UMFPACK multifrontal LU (any nonsingular matrix).", {}});
