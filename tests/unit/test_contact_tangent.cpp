@@ -573,10 +573,18 @@ TEST(Friction, ChatteringGuardHoldsStickSlipAndChecksIt) {
   // (the slave's end node, shifted beyond the master's end, may stay as it was)
   const Index flipping = count(true);
   ASSERT_GE(flipping, closed - 1) << "a large shift should make the closed nodes slip";
-  // Flip the status max_flips + 1 times: the nodes are then held in the status they have.
+  // Flip the status max_flips + 1 times: the nodes are then held in the status they have. Each
+  // accepted iterate counts the closed nodes that slip and those that turned to slip or to stick
+  // (the Newton log's "[N closed +a -b, S slip +c -d]"); at the first, every node closes (from
+  // the increment's open start): none turned.
   for (int k = 0; k <= cs.max_flips; ++k) {
     evaluate(k % 2 == 0 ? slip : stick);
     ci.count_status_changes();
+    const ContactInterface::IterateStatus& is = ci.iterate_status();
+    EXPECT_EQ(is.closed, closed) << "iterate " << k;
+    EXPECT_EQ(is.slipping, k % 2 == 0 ? flipping : 0) << "iterate " << k;
+    EXPECT_EQ(is.to_slip, k % 2 == 0 && k > 0 ? flipping : 0) << "iterate " << k;
+    EXPECT_EQ(is.to_stick, k % 2 == 1 ? flipping : 0) << "iterate " << k;
   }
   evaluate(stick);
   EXPECT_EQ(count(true), flipping) << "held in slip, the nodes slip even where the trial traction is inside the disc";

@@ -344,7 +344,7 @@ void ContactInterface::count_status_changes() {
   iterate_status_ = {};
   for (size_t j = 0; j < state_.active.size(); ++j) {
     NodeRecord& r = nodes_[j];
-    const bool closed = state_.active[j];
+    const bool closed = state_.active[j], was_closed = r.last_closed;
     iterate_status_.closed += closed;
     if (closed != r.last_closed) {
       ++(closed ? iterate_status_.newly_closed : iterate_status_.newly_opened);
@@ -359,7 +359,9 @@ void ContactInterface::count_status_changes() {
     // Stick/slip of a closed node: held in its status after max_flips changes.
     if (frictional() && closed && j < state_.slip.size()) {
       const bool slip = state_.slip[j];
+      iterate_status_.slipping += slip;
       if (slip != r.last_slip) ++r.friction_flips;
+      if (slip != r.last_slip && was_closed) ++(slip ? iterate_status_.to_slip : iterate_status_.to_stick);
       r.last_slip = slip;
       if (r.friction_flips > s_.max_flips && r.friction_hold == StickSlip::none) {
         r.friction_hold = slip ? StickSlip::slip : StickSlip::stick;

@@ -52,6 +52,8 @@ class ContactInterface {
   const std::string& label() const { return label_; }
   const ContactPairSettings& settings() const { return s_; }
   bool uses_multipliers() const { return enforcement_->uses_multipliers(); }
+  // Statuses per slave node (multipliers, penalty, the augmented Lagrangian; not Nitsche's points).
+  bool node_statuses() const { return enforcement_->node_statuses(); }
   bool symmetric() const { return enforcement_->symmetric() && !frictional(); }
   // A friction law other than frictionless.
   bool frictional() const { return friction_ != nullptr; }
@@ -142,9 +144,13 @@ class ContactInterface {
   // at the `first_iteration`), or whose residual has `converged`; returns how many nodes it
   // held in stick outside their friction disc (their residual changes when it ends).
   Index end_stick_predictor(bool converged, Real step, bool first_iteration);
-  // At the last accepted iterate: closed slave nodes, and how many closed and opened in it.
+  // At the last accepted iterate: closed slave nodes, and how many closed and opened in it;
+  // with friction and node statuses (multipliers, penalty, the augmented Lagrangian), the
+  // closed nodes that slip, and how many of the nodes closed before and after turned to slip
+  // and to stick in it (the Newton log's "[N closed +a -b, S slip +c -d]").
   struct IterateStatus {
     Index closed = 0, newly_closed = 0, newly_opened = 0;
+    Index slipping = 0, to_slip = 0, to_stick = 0;
   };
   const IterateStatus& iterate_status() const { return iterate_status_; }
   // After convergence: a node held closed that ends in tension is held open instead

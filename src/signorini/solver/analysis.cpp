@@ -1428,7 +1428,10 @@ bool Analysis::solve_increment(Real lambda, Real dl, IncrementRecord& rec, std::
       int changes = 0;
       for (auto& c : contacts_) {
         const auto& is = c->iterate_status();
-        statuses_text += fmt::format("  [{} closed +{} -{}]", is.closed, is.newly_closed, is.newly_opened);
+        statuses_text += fmt::format("  [{} closed +{} -{}{}]", is.closed, is.newly_closed, is.newly_opened,
+                                     c->frictional() && c->node_statuses()
+                                         ? fmt::format(", {} slip +{} -{}", is.slipping, is.to_slip, is.to_stick)
+                                         : std::string());
         changes += static_cast<int>(is.newly_closed + is.newly_opened);
       }
       rec.status_changes.push_back(changes);
