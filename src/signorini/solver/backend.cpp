@@ -1,9 +1,14 @@
 #include "signorini/solver/backend.hpp"
 
+#include <cstdlib>
+
 #include "signorini/core/error.hpp"
 #include "signorini/core/log.hpp"
 #include "signorini/solver/condensed_solve.hpp"
 #include "signorini/solver/linear_solver.hpp"
+#ifdef SIGNORINI_HAVE_PETSC
+#include "signorini/solver/petsc_solver.hpp"
+#endif
 
 namespace signorini {
 
@@ -90,13 +95,16 @@ class SerialBackend final : public AlgebraBackend {
     // solves it sent to GAMG at any size in 3D (FactorizationForecast, recorded below): the
     // whole system to LU, multipliers and all, for the rest of the run.
     const bool factorize = forecast_.favours_factorization();
-    if (q.is_multiplier && q.condense_contact && condenses(linear_name_) && !factorize) {
+    const log::Timer timer;
+    if (q.is_multiplier && q.condense_contact && condenses(linear_name_) && !factorize && !whole_trial_ &&
+        !whole_faster_) {
       if (condensed_.solve(system_.matrix(), *q.is_multiplier, q.body_symmetric, r, du)) {
         last_iterations_ = condensed_.last_iterations();
         last_method_ = "condensed multipliers, " + condensed_.last_method();
         iterative_last_ = is_iterative(condensed_.last_used());
         if (condensed_.refinements() > 0) log::debug("    condensed solve: {} refinement steps", condensed_.refinements());
         forecast(condensed_.last_used());
+        time_coupled_rows(timer.seconds());
         return "condensed+" + condensed_.last_used();
       }
       if (linear_name_ != "auto")
@@ -119,11 +127,25 @@ class SerialBackend final : public AlgebraBackend {
     // friction: 3.5x faster than MUMPS's LU at 15k unknowns, 5-6x at 35k; docs/performance.md).
     linear_.set_unsymmetric_amg(!q.is_multiplier && !factorize);
     linear_.set_unsymmetric_amg_any_size(!q.is_multiplier && !factorize);
+#ifdef SIGNORINI_HAVE_PETSC
+    if (whole_trial_ && petsc_available()) start_petsc();  // not a cost of the trial's solve
+#endif
+    const log::Timer whole_timer;
     linear_.solve(system_.matrix(), q.symmetric, r, du);
     last_iterations_ = linear_.last_iterations();
     last_method_ = linear_.last_method();
     iterative_last_ = is_iterative(linear_.last_used());
     forecast(linear_.last_used());
+    if (whole_trial_) {
+      whole_trial_ = false;
+      const double whole = whole_timer.seconds();
+      // SIGNORINI_WHOLE_TRIAL=whole|condensed (tests): the trial's verdict, whatever the times.
+      const char* verdict = std::getenv("SIGNORINI_WHOLE_TRIAL");
+      whole_faster_ = verdict ? std::string(verdict) == "whole" : whole < condensed_seconds_;
+      log::info("    linear solver auto: the whole system's factorization ({}) took {:.2f} s against {:.2f} s for the "
+                "condensed solve of the coupled contact rows with its GMRES corrections: {} for the rest of the run",
+                linear_.last_used(), whole, condensed_seconds_, whole_faster_ ? "the whole system" : "condensed");
+    }
     return linear_.last_used();
   }
 
@@ -139,6 +161,29 @@ class SerialBackend final : public AlgebraBackend {
   bool condense_reported_ = false;
   bool iterative_last_ = false;  // the last solve was a Krylov solver's (save_values)
   FactorizationForecast forecast_;
+  // `auto` on coupled contact rows (mortar, segment_to_segment) condensed for a factorization:
+  // the condensed solve is exact (GMRES corrects the left-out couplings to round-off), and so is
+  // a factorization of the whole system, so the two give the same Newton steps and the faster
+  // may be kept. At the second condensed solve with corrections (the first of a run may have
+  // few or many: its closed rows are the touching ones), if it took kTrialCorrections or more,
+  // the next solve is the whole system's, timed (whole_trial_), and the faster of the two takes
+  // the rest of the run (whole_faster_); with fewer the condensation stays without a trial (a
+  // factorization of the whole system costs memory: 573 MiB against 334 MiB on the tet4 mortar
+  // quarter at hc 0.01). Measured: linear mortar facets 2-3 corrections a solve after the first
+  // (the condensation faster, 0.87 s against MUMPS's 1.51 s), quadratic ones 23-28 (the whole
+  // system faster, 1.57 s against 3.53 s; docs/performance.md, session 66).
+  static constexpr int kTrialCorrections = 10;
+  int coupled_solves_ = 0;
+  double condensed_seconds_ = 0;
+  bool whole_trial_ = false, whole_faster_ = false, timed_ = false;
+  void time_coupled_rows(double seconds) {
+    if (linear_name_ != "auto" || timed_ || condensed_.refinements() == 0 || is_iterative(condensed_.last_used()))
+      return;
+    if (++coupled_solves_ < 2) return;
+    timed_ = true;  // decided once
+    condensed_seconds_ = seconds;
+    whole_trial_ = condensed_.refinements() >= kTrialCorrections;
+  }
   // After a solve by `used`: `auto`'s GAMG at or below iterative_above (where it goes only for
   // unsymmetric 3D systems, at any size; not after a Cholesky factor was found too large) is
   // recorded in the forecast, which may send the next solves whole to LU (logged once).

@@ -2244,6 +2244,8 @@ void abort_all_ranks(int code) {
   std::exit(code);  // not reached
 }
 
+void start_petsc() { ensure_petsc(); }
+
 void finalize_petsc() {
   if (!g_started_here) return;
   PetscFinalize();

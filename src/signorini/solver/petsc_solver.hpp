@@ -25,6 +25,8 @@ std::unique_ptr<AlgebraBackend> make_petsc_backend(const LinearSolverSettings& s
 // PETSc (and MPI) are initialized on first use; finalize_petsc() ends them at the end of
 // main when they were started (a no-op otherwise).
 void finalize_petsc();
+// Initializes PETSc now if it has not started (e.g. before timing a solve that would start it).
+void start_petsc();
 
 // Several MPI ranks (mpirun -np N): every rank reads the deck and runs the same Newton
 // iterations on replicated vectors; the assembly is partitioned (make_petsc_backend: each rank
