@@ -127,6 +127,9 @@ class SerialBackend final : public AlgebraBackend {
     // friction: 3.5x faster than MUMPS's LU at 15k unknowns, 5-6x at 35k; docs/performance.md).
     linear_.set_unsymmetric_amg(!q.is_multiplier && !factorize);
     linear_.set_unsymmetric_amg_any_size(!q.is_multiplier && !factorize);
+    // The trial: the condensed system's factor freed first (not held beside the whole system's;
+    // if the condensation stays, its next solve analyses its pattern anew).
+    if (whole_trial_) condensed_.release();
 #ifdef SIGNORINI_HAVE_PETSC
     if (whole_trial_ && petsc_available()) start_petsc();  // not a cost of the trial's solve
 #endif
@@ -142,6 +145,7 @@ class SerialBackend final : public AlgebraBackend {
       // SIGNORINI_WHOLE_TRIAL=whole|condensed (tests): the trial's verdict, whatever the times.
       const char* verdict = std::getenv("SIGNORINI_WHOLE_TRIAL");
       whole_faster_ = verdict ? std::string(verdict) == "whole" : whole < condensed_seconds_;
+      if (!whole_faster_) linear_.reset();  // the whole system's factor is not needed again
       log::info("    linear solver auto: the whole system's factorization ({}) took {:.2f} s against {:.2f} s for the "
                 "condensed solve of the coupled contact rows with its GMRES corrections: {} for the rest of the run",
                 linear_.last_used(), whole, condensed_seconds_, whole_faster_ ? "the whole system" : "condensed");

@@ -61,6 +61,12 @@ class CondensedContactSolver {
   int block_analyses() const { return block_analyses_; }
   // Symbolic analyses of the reduced system so far (one per distinct pattern in a row).
   int analyses() const { return analyses_; }
+  // Frees the reduced system's factorization (its caller solves the whole system from now on);
+  // the next solve, if any, analyses its pattern anew.
+  void release() {
+    solver_.reset();
+    pattern_rows_ = -1;
+  }
   // Refinement steps of the last solve (coupled rows; 0 when the elimination is exact).
   int refinements() const { return refinements_; }
   // GMRES stops at kRefinementTolerance |r| or after kMaxRefinements steps, and its step is
