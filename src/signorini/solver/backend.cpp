@@ -172,19 +172,19 @@ class SerialBackend final : public AlgebraBackend {
   // few or many: its closed rows are the touching ones), if it took kTrialCorrections or more,
   // the next solve is the whole system's, timed (whole_trial_), and the faster of the two takes
   // the rest of the run (whole_faster_); with fewer the condensation stays without a trial (a
-  // factorization of the whole system costs memory: 573 MiB against 334 MiB on the tet4 mortar
-  // quarter at hc 0.01). Measured: linear mortar facets 2-3 corrections a solve after the first
+  // trial costs a factorization of the whole system and its memory: on the tet4 mortar quarter
+  // at hc 0.01, before the trial freed the condensed factor, 573 MiB against 334 MiB). Measured: linear mortar facets 2-3 corrections a solve after the first
   // (the condensation faster, 0.87 s against MUMPS's 1.51 s), quadratic ones 23-28 (the whole
   // system faster, 1.57 s against 3.53 s; docs/performance.md, session 66).
   static constexpr int kTrialCorrections = 10;
-  int coupled_solves_ = 0;
+  int coupled_solves_ = 0;  // condensed solves with corrections, counted up to the second (decided once)
   double condensed_seconds_ = 0;
-  bool whole_trial_ = false, whole_faster_ = false, timed_ = false;
+  bool whole_trial_ = false, whole_faster_ = false;
   void time_coupled_rows(double seconds) {
-    if (linear_name_ != "auto" || timed_ || condensed_.refinements() == 0 || is_iterative(condensed_.last_used()))
+    if (linear_name_ != "auto" || coupled_solves_ >= 2 || condensed_.refinements() == 0 ||
+        is_iterative(condensed_.last_used()))
       return;
     if (++coupled_solves_ < 2) return;
-    timed_ = true;  // decided once
     condensed_seconds_ = seconds;
     whole_trial_ = condensed_.refinements() >= kTrialCorrections;
   }
