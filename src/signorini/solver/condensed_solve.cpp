@@ -265,6 +265,76 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       return false;
     }
   }
+  // Coupled rows in two levels (coupled_rows_children): a child row's couplings at its parents'
+  // pivots stay in P, eliminated by substitution (parents first), and the parents' pivot rows
+  // keep their children's multipliers (recovered children first); every other coupling at a
+  // pivot is left out (E). crow: closed row -> its index in `closed`; ap: its pivot coefficient.
+  std::vector<Index> crow(n, -1);
+  for (size_t c = 0; c < closed.size(); ++c) crow[closed[c]] = static_cast<Index>(c);
+  std::vector<Real> ap(closed.size()), bp(closed.size());
+  auto pivot_coefficients = [&]() {
+    for (size_t c = 0; c < closed.size(); ++c)
+      for (const auto& [k, v] : row_of(closed[c]))
+        if (k == pivot[c]) ap[c] = v;
+  };
+  pivot_coefficients();
+  std::vector<char> child(closed.size(), 0);
+  // parents_of[c]: (parent c', a_{m,p(c')}); children_of[c']: (child c, J(p(c'), m)).
+  std::vector<std::vector<std::pair<Index, Real>>> parents_of(closed.size()), children_of(closed.size());
+  if (coupled) {
+    auto levels = [&]() {
+      std::vector<std::vector<std::pair<size_t, Real>>> coupling(closed.size());
+      for (size_t c = 0; c < closed.size(); ++c)
+        for (const auto& [k, v] : row_of(closed[c]))
+          if (k != pivot[c] && pivot_of[k] >= 0 && v != 0 && J.coeff(k, closed[c]) != 0)
+            coupling[c].emplace_back(static_cast<size_t>(pivot_of[k]), std::abs(v / ap[c]));
+      return coupled_rows_children(coupling);
+    };
+    child = levels();
+    // The parents' pivots chosen again once the children are known: a child's coupling at its
+    // parent's pivot is eliminated exactly, so a parent's pivot is to dominate the other
+    // parents' rows only (score |a|^2 / sum over parents of |a_m'k|: the row's own DOF rather
+    // than a master node's under it, which the column over every row may favour).
+    std::vector<Real> column_parents(n, 0.0);
+    for (size_t c = 0; c < closed.size(); ++c)
+      if (!child[c])
+        for (const auto& [k, v] : row_of(closed[c])) column_parents[k] += std::abs(v);
+    for (size_t c = 0; c < closed.size(); ++c)
+      if (!child[c]) pivot_of[pivot[c]] = -1;
+    for (size_t c = 0; c < closed.size(); ++c) {
+      if (child[c]) continue;
+      const Index m = closed[c];
+      Real amax = 0, best = 0;
+      for (const auto& [k, v] : row_of(m))
+        if (k != m) amax = std::max(amax, std::abs(v));
+      for (const auto& [k, v] : row_of(m)) {
+        const Real a = std::abs(v);
+        if (k == m || a < 0.1 * amax || pivot_of[k] >= 0 || J.coeff(k, m) == 0) continue;
+        const Real score = a * a / column_parents[k];
+        if (score <= best) continue;
+        best = score;
+        pivot[c] = k;
+      }
+      pivot_of[pivot[c]] = static_cast<Index>(c);  // the first choice, free again, if none better
+    }
+    pivot_coefficients();
+    child = levels();
+    for (size_t c = 0; c < closed.size(); ++c) {
+      if (!child[c]) continue;
+      for (const auto& [k, v] : row_of(closed[c])) {
+        if (k == pivot[c] || pivot_of[k] < 0 || v == 0 || child[pivot_of[k]]) continue;
+        const Real b = J.coeff(k, closed[c]);
+        if (b == 0) continue;
+        parents_of[c].emplace_back(pivot_of[k], v);
+        children_of[pivot_of[k]].emplace_back(static_cast<Index>(c), b);
+      }
+    }
+  }
+  auto kept = [&](Index c, Index parent) {
+    for (const auto& [q, v] : parents_of[c])
+      if (q == parent) return true;
+    return false;
+  };
   // Coupled rows with an iterative inner solver: loose inner solves, GMRES to the forcing term
   // (kInnerTolerance). With a factorization the inner solve is exact and GMRES goes on to
   // kRefinementTolerance.
@@ -274,8 +344,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // P = J - E: J without the couplings at the pivots (coupled rows only; else P = J). E holds
   // the left-out entries, which sit in closed rows and columns only, so P is never formed.
   auto dropped = [&](Index row, Index col) {
-    return (is_closed[row] && pivot_of[col] >= 0 && closed[pivot_of[col]] != row) ||
-           (is_closed[col] && pivot_of[row] >= 0 && closed[pivot_of[row]] != col);
+    return (is_closed[row] && pivot_of[col] >= 0 && closed[pivot_of[col]] != row && !kept(crow[row], pivot_of[col])) ||
+           (is_closed[col] && pivot_of[row] >= 0 && closed[pivot_of[row]] != col && !kept(crow[col], pivot_of[row]));
   };
   SparseMatrix E(n, n);
   if (coupled) {
@@ -305,20 +375,23 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   trip.reserve(static_cast<size_t>(nr) + 16 * closed.size());
   for (Index k = 0; k < n; ++k)
     if (ridx[k] >= 0 && pivot_of[k] < 0) trip.emplace_back(static_cast<int>(k), static_cast<int>(ridx[k]), 1.0);
-  std::vector<Real> ap(closed.size()), bp(closed.size());
-  // T's pivot rows, row by row (T is stored by columns): spread[p] = (reduced column, T(p, .)).
+  // T's pivot rows, row by row (T is stored by columns): spread[p] = (reduced column, T(p, .)),
+  // the parents' rows before the children's, which add their parents' rows (duplicate columns
+  // are summed by the triplets and by reduced_product).
   std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n));
-  for (size_t c = 0; c < closed.size(); ++c) {
-    const Index m = closed[c], p = pivot[c];
-    bp[c] = J.coeff(p, m);  // never left out: m is p's own row
-    for (const auto& [k, v] : row_of(m))
-      if (k == p) ap[c] = v;
-    for (const auto& [k, v] : row_of(m)) {
-      if (k == m || k == p || v == 0 || (coupled && dropped(m, k))) continue;
-      trip.emplace_back(static_cast<int>(p), static_cast<int>(ridx[k]), -v / ap[c]);
-      spread[p].emplace_back(ridx[k], -v / ap[c]);
+  for (int level = 0; level < 2; ++level)
+    for (size_t c = 0; c < closed.size(); ++c) {
+      if (child[c] != level) continue;
+      const Index m = closed[c], p = pivot[c];
+      bp[c] = J.coeff(p, m);  // never left out: m is p's own row
+      for (const auto& [k, v] : row_of(m)) {
+        if (k == m || k == p || v == 0 || (coupled && (dropped(m, k) || pivot_of[k] >= 0))) continue;
+        spread[p].emplace_back(ridx[k], -v / ap[c]);
+      }
+      for (const auto& [q, v] : parents_of[c])
+        for (const auto& [j, t] : spread[pivot[q]]) spread[p].emplace_back(j, -v / ap[c] * t);
+      for (const auto& [j, t] : spread[p]) trip.emplace_back(static_cast<int>(p), static_cast<int>(j), t);
     }
-  }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
@@ -331,12 +404,25 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   auto apply = [&](const VecX& rhs, VecX& out) {
     VecX z0 = VecX::Zero(n);
     for (Index m : open) z0(m) = rhs(m) / J.coeff(m, m);
-    for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
+    for (int level = 0; level < 2; ++level)
+      for (size_t c = 0; c < closed.size(); ++c) {
+        if (child[c] != level) continue;
+        Real b = rhs(closed[c]);
+        for (const auto& [q, v] : parents_of[c]) b -= v * z0(pivot[q]);
+        z0(pivot[c]) = b / ap[c];
+      }
     const VecX rr = T.transpose() * (rhs - times_P(z0));
     out = T * inner_solve(Kr, symmetric, rr, factorized) + z0;
-    // Closed multipliers from their pivots' rows (out holds 0 for them so far).
+    // Closed multipliers from their pivots' rows (out holds 0 for them so far), the children's
+    // before their parents'.
     const VecX Aout = times_P(out);
-    for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Aout(pivot[c])) / bp[c];
+    for (int level = 1; level >= 0; --level)
+      for (size_t c = 0; c < closed.size(); ++c) {
+        if (child[c] != level) continue;
+        Real b = rhs(pivot[c]) - Aout(pivot[c]);
+        for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
+        out(closed[c]) = b / bp[c];
+      }
   };
   apply(r, dz);
   log::debug("    condensed solve: {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB", Kr.rows(), Kr.nonZeros(),
@@ -495,6 +581,18 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     blocks_backoff_.failed();
   }
   return false;
+}
+
+std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling) {
+  std::vector<Real> out(coupling.size(), 0.0), in(coupling.size(), 0.0);
+  for (size_t c = 0; c < coupling.size(); ++c)
+    for (const auto& [q, w] : coupling[c]) {
+      out[c] += w;
+      in[q] += w;
+    }
+  std::vector<char> child(coupling.size(), 0);
+  for (size_t c = 0; c < coupling.size(); ++c) child[c] = out[c] > in[c];
+  return child;
 }
 
 FlexibleGmresResult flexible_gmres(const std::function<VecX(const VecX&)>& times_A,

@@ -118,6 +118,18 @@ class CondensedContactSolver {
   bool blocks_always_ = false;
 };
 
+// Coupled contact rows (segment_to_segment, mortar) in two levels. coupling[c] lists (c', w):
+// closed row c's coefficient at row c''s pivot relative to its own pivot's,
+// w = |a_{c,p(c')}| / |a_{c,p(c)}|, for the pairs where row c's multiplier also acts on row
+// p(c') (J(p(c'), c) stored). A row is a child when its couplings to the other pivots outweigh
+// the other rows' couplings to its own pivot. A child's couplings at its parents' pivots are
+// then eliminated exactly by substitution (the parents first), the other couplings at pivots
+// left to GMRES. On tri6/quad8 slave facets (mortar's transformed dual basis, mortar_dual.hpp)
+// a mid-side node's weighted gap sees its edge's corners through D = D_diag T^-1 (about
+// -kTransform of its own coefficient each): the mid-side rows become children of the corners,
+// whose rows see the mid-side pivots through the geometry's variation only.
+std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling);
+
 // Flexible GMRES (Saad 2003, "Iterative Methods for Sparse Linear Systems", alg. 9.6) on
 // A x = r, right-preconditioned, from the first guess x (updated in place): the preconditioned
 // vectors are kept, so the preconditioner may change from step to step (an inner Krylov solve

@@ -1155,17 +1155,90 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // small: master nodes at the edge of a segment, the normal's variation) the product took
     // 10 s per Newton iteration with every entry and 2.4-3 s with this drop, for the same
     // Krylov iterations (docs/performance.md, session 55).
+    // Coupled rows in two levels (condensed_solve.hpp, coupled_rows_children): a child's
+    // couplings at its parents' pivots are eliminated by substitution (the parents first; the
+    // parents' pivot rows recover the children's multipliers first), and the parents' pivots
+    // are chosen again to dominate the other parents' rows only, as in one process.
+    std::vector<char> child(closed.size(), 0);
+    std::vector<std::vector<std::pair<size_t, Real>>> parents_of(closed.size()), children_of(closed.size());
+    auto acting = [&](Index k, Index m) {  // J(k, m)
+      for (const auto& [i, b] : col_of[m])
+        if (i == k) return b;
+      return 0.0;
+    };
+    if (coupled) {
+      auto levels = [&]() {
+        std::vector<std::vector<std::pair<size_t, Real>>> coupling(closed.size());
+        for (size_t c = 0; c < closed.size(); ++c)
+          for (const auto& [k, a] : row_of[closed[c]]) {
+            const auto it = k != pivot[c] && a != 0 ? pivot_of.find(k) : pivot_of.end();
+            if (it != pivot_of.end() && acting(k, closed[c]) != 0)
+              coupling[c].emplace_back(it->second, std::abs(a / ap[c]));
+          }
+        return coupled_rows_children(coupling);
+      };
+      child = levels();
+      std::map<Index, Real> column_parents;
+      for (size_t c = 0; c < closed.size(); ++c)
+        if (!child[c])
+          for (const auto& [k, a] : row_of[closed[c]]) column_parents[k] += std::abs(a);
+      for (size_t c = 0; c < closed.size(); ++c)
+        if (!child[c]) pivot_of.erase(pivot[c]);
+      for (size_t c = 0; c < closed.size(); ++c) {
+        if (child[c]) continue;
+        const Index m = closed[c];
+        Real amax = 0, best = 0;
+        for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
+        const auto before = last_pivot_.find(m);
+        bool kept = false;
+        for (const auto& [k, a] : row_of[m]) {
+          const Real b = acting(k, m);
+          if (std::abs(a) < 0.1 * amax || pivot_of.count(k) || b == 0) continue;
+          const Real score = a * a / column_parents[k];
+          const bool earlier = before != last_pivot_.end() && before->second == k;
+          if (kept || (!earlier && score <= best)) continue;
+          kept = earlier;
+          best = score;
+          pivot[c] = k;
+          ap[c] = a;
+          bp[c] = b;
+        }
+        pivot_of[pivot[c]] = c;  // the first choice, free again, if none better
+      }
+      child = levels();
+      for (size_t c = 0; c < closed.size(); ++c) {
+        if (!child[c]) continue;
+        for (const auto& [k, a] : row_of[closed[c]]) {
+          const auto it = k != pivot[c] ? pivot_of.find(k) : pivot_of.end();
+          if (it == pivot_of.end() || child[it->second] || std::abs(a) < kCoupledDrop * std::abs(ap[c])) continue;
+          const Real b = acting(k, closed[c]);
+          if (b == 0) continue;
+          parents_of[c].emplace_back(it->second, a);
+          children_of[it->second].emplace_back(c, b);
+        }
+      }
+    }
     auto dropped = [&](size_t c, Index k, Real a) {
       if (!coupled) return false;
       if (std::abs(a) < kCoupledDrop * std::abs(ap[c])) return true;
       const auto it = pivot_of.find(k);
-      return it != pivot_of.end() && it->second != c;
+      return it != pivot_of.end() && it->second != c;  // a parent's pivot: substituted (elim)
     };
+    // T's pivot rows over the unknowns, the parents' before the children's (which add their
+    // parents' rows, scaled).
+    std::vector<std::map<Index, Real>> elim(closed.size());
+    for (int level = 0; level < 2; ++level)
+      for (size_t c = 0; c < closed.size(); ++c) {
+        if (child[c] != level) continue;
+        for (const auto& [k, a] : row_of[closed[c]])
+          if (k != pivot[c] && !dropped(c, k, a)) elim[c][k] -= a / ap[c];
+        for (const auto& [q, a] : parents_of[c])
+          for (const auto& [k, t] : elim[q]) elim[c][k] -= a / ap[c] * t;
+      }
     for (size_t c = 0; c < closed.size(); ++c) {
       last_pivot_[closed[c]] = pivot[c];
       auto& columns = pivot_columns_[pivot[c]];
-      for (const auto& [k, a] : row_of[closed[c]])
-        if (k != pivot[c] && !dropped(c, k, a)) columns.insert(k);
+      for (const auto& [k, t] : elim[c]) columns.insert(k);
     }
     // T, this rank's rows: identity, but empty for multipliers and the pivots' elimination.
     // A DOF that was a pivot at an earlier solve of this pattern keeps the columns it had then,
@@ -1187,9 +1260,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       } else if (it == pivot_of.end()) {
         rt.emplace_back(static_cast<PetscInt>(i), 1.0);
       } else {
-        const size_t c = it->second;
-        for (const auto& [k, a] : row_of[closed[c]])
-          if (k != pivot[c] && !dropped(c, k, a)) rt.emplace_back(row(k), -a / ap[c]);
+        for (const auto& [k, t] : elim[it->second]) rt.emplace_back(row(k), t);
       }
       if (const auto pc = u >= 0 && !mult[u] ? pivot_columns_.find(u) : pivot_columns_.end(); pc != pivot_columns_.end())
         for (Index k : pc->second) rt.emplace_back(row(k), 0.0);
@@ -1288,7 +1359,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     auto apply = [&](const VecX& rhs, VecX& out) {
       VecX z0 = VecX::Zero(n_);
       for (Index m : open) z0(m) = rhs(m) / diag[m];
-      for (size_t c = 0; c < closed.size(); ++c) z0(pivot[c]) = rhs(closed[c]) / ap[c];
+      for (int level = 0; level < 2; ++level)
+        for (size_t c = 0; c < closed.size(); ++c) {
+          if (child[c] != level) continue;
+          Real b = rhs(closed[c]);
+          for (const auto& [q, a] : parents_of[c]) b -= a * z0(pivot[q]);
+          z0(pivot[c]) = b / ap[c];
+        }
       set_owned(x_, z0);
       check(MatMult(A_, x_, w), "MatMult");  // J z0
       set_owned(b_, rhs);
@@ -1304,7 +1381,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       VecX Jout;
       gather(rr, out);
       gather(w, Jout);
-      for (size_t c = 0; c < closed.size(); ++c) out(closed[c]) = (rhs(pivot[c]) - Jout(pivot[c])) / bp[c];
+      for (int level = 1; level >= 0; --level)
+        for (size_t c = 0; c < closed.size(); ++c) {
+          if (child[c] != level) continue;
+          Real b = rhs(pivot[c]) - Jout(pivot[c]);
+          for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
+          out(closed[c]) = b / bp[c];
+        }
     };
     // Coupled rows: loose inner solves, and flexible GMRES on J to the Newton iteration's
     // forcing term (condensed_solve's constants, so that one process and several take the same
