@@ -70,6 +70,21 @@ std::vector<std::vector<std::pair<Index, Real>>> coupled_rows() {
   return rows;
 }
 
+// Rows like mortar's on quad9 slave facets (the transformed basis a tensor product): corner
+// rows on their own unknown, mid-side rows also at the two corners beside them, centre rows at
+// a mid-side node and, less, at its corners. Corner C_i = 30 + 3i (i = 0 .. 6), mid-side
+// M_i = 31 + 3i and centre Z_i = 32 + 3i (i = 0 .. 5); each row also sees two master unknowns.
+std::vector<std::vector<std::pair<Index, Real>>> three_level_rows() {
+  std::vector<std::vector<std::pair<Index, Real>>> rows;
+  auto C = [](Index i) { return 30 + 3 * i; };
+  for (Index i = 0; i <= 6; ++i) rows.push_back({{C(i), 0.8}, {i, -0.3}, {i + 1, -0.2}});
+  for (Index i = 0; i < 6; ++i)
+    rows.push_back({{C(i) + 1, 0.67}, {C(i), -0.15}, {C(i + 1), -0.15}, {i, -0.2}, {i + 1, -0.3}});
+  for (Index i = 0; i < 6; ++i)
+    rows.push_back({{C(i) + 2, 0.6}, {C(i) + 1, -0.15}, {C(i), -0.04}, {C(i + 1), -0.04}, {i + 1, -0.25}, {i + 2, -0.1}});
+  return rows;
+}
+
 // coupled_rows() with the couplings a two-level elimination cannot hold: each corner row also
 // sees the next mid-side node's unknown, and each mid-side row the next mid-side's (as a
 // normal's variation couples the rows of nearby nodes both ways).
@@ -128,6 +143,28 @@ TEST(CondensedSolve, CoupledRowsAreSharedIntoParentsAndChildren) {
   for (size_t j = 0; j + 1 < rows.size(); j += 2) coupling[j] = {{j + 1, 0.05}};
   EXPECT_EQ(coupled_rows_children(coupling), child);
   EXPECT_EQ(coupled_rows_children({{{1, 0.2}}, {{0, 0.2}}}), std::vector<char>({0, 0}));
+}
+
+TEST(CondensedSolve, CoupledRowsInThreeLevelsAreEliminatedExactly) {
+  // three_level_rows(): the corners are parents (level 0), the mid-side rows their children
+  // (level 1), the centre rows children of both (level 2): every coupling is substituted and
+  // no GMRES step is needed.
+  const auto rows = three_level_rows();
+  std::vector<std::vector<std::pair<size_t, Real>>> coupling(rows.size());
+  std::vector<size_t> row_of_slave(60, rows.size());
+  for (size_t j = 0; j < rows.size(); ++j) row_of_slave[rows[j][0].first] = j;
+  for (size_t j = 0; j < rows.size(); ++j)
+    for (size_t e = 1; e < rows[j].size(); ++e)
+      if (row_of_slave[rows[j][e].first] < rows.size())
+        coupling[j].emplace_back(row_of_slave[rows[j][e].first], std::abs(rows[j][e].second / rows[j][0].second));
+  const std::vector<int> level = coupled_rows_levels(coupling);
+  for (size_t j = 0; j < rows.size(); ++j) EXPECT_EQ(level[j], j < 7 ? 0 : j < 13 ? 1 : 2) << j;
+  const Saddle s = make_system(60, rows, 2);
+  CondensedContactSolver solver(false);
+  VecX dz;
+  ASSERT_TRUE(solver.solve(s.J, s.is_multiplier, true, s.r, dz)) << solver.why_not();
+  EXPECT_EQ(solver.refinements(), 0);
+  EXPECT_LT(error_against_dense(s, dz), 1e-10);
 }
 
 TEST(CondensedSolve, CoupledRowsGiveTheWholeSystemsStep) {

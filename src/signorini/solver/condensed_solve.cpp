@@ -265,10 +265,10 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       return false;
     }
   }
-  // Coupled rows in two levels (coupled_rows_children): a child row's couplings at its parents'
-  // pivots stay in P, eliminated by substitution (parents first), and the parents' pivot rows
-  // keep their children's multipliers (recovered children first); every other coupling at a
-  // pivot is left out (E). crow: closed row -> its index in `closed`; ap: its pivot coefficient.
+  // Coupled rows in levels (coupled_rows_levels): a row's couplings at the pivots of rows on
+  // lower levels (its parents) stay in P, eliminated by substitution (the lowest level first),
+  // and the parents' pivot rows keep their children's multipliers (recovered from the highest
+  // level down); every other coupling at a pivot is left out (E). crow: closed row -> its index in `closed`; ap: its pivot coefficient.
   std::vector<Index> crow(n, -1);
   for (size_t c = 0; c < closed.size(); ++c) crow[closed[c]] = static_cast<Index>(c);
   std::vector<Real> ap(closed.size()), bp(closed.size());
@@ -278,8 +278,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
         if (k == pivot[c]) ap[c] = v;
   };
   pivot_coefficients();
-  std::vector<char> child(closed.size(), 0);
-  // parents_of[c]: (parent c', a_{m,p(c')}); children_of[c']: (child c, J(p(c'), m)).
+  std::vector<int> level(closed.size(), 0);
+  // parents_of[c]: (parent c' on a lower level, a_{m,p(c')}); children_of[c']: (child c, J(p(c'), m)).
   std::vector<std::vector<std::pair<Index, Real>>> parents_of(closed.size()), children_of(closed.size());
   if (coupled) {
     auto levels = [&]() {
@@ -288,21 +288,21 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
         for (const auto& [k, v] : row_of(closed[c]))
           if (k != pivot[c] && pivot_of[k] >= 0 && v != 0 && J.coeff(k, closed[c]) != 0)
             coupling[c].emplace_back(static_cast<size_t>(pivot_of[k]), std::abs(v / ap[c]));
-      return coupled_rows_children(coupling);
+      return coupled_rows_levels(coupling);
     };
-    child = levels();
+    level = levels();
     // The parents' pivots chosen again once the children are known: a child's coupling at its
     // parent's pivot is eliminated exactly, so a parent's pivot is to dominate the other
     // parents' rows only (score |a|^2 / sum over parents of |a_m'k|: the row's own DOF rather
     // than a master node's under it, which the column over every row may favour).
     std::vector<Real> column_parents(n, 0.0);
     for (size_t c = 0; c < closed.size(); ++c)
-      if (!child[c])
+      if (level[c] == 0)
         for (const auto& [k, v] : row_of(closed[c])) column_parents[k] += std::abs(v);
     for (size_t c = 0; c < closed.size(); ++c)
-      if (!child[c]) pivot_of[pivot[c]] = -1;
+      if (level[c] == 0) pivot_of[pivot[c]] = -1;
     for (size_t c = 0; c < closed.size(); ++c) {
-      if (child[c]) continue;
+      if (level[c] > 0) continue;
       const Index m = closed[c];
       Real amax = 0, best = 0;
       for (const auto& [k, v] : row_of(m))
@@ -318,11 +318,11 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       pivot_of[pivot[c]] = static_cast<Index>(c);  // the first choice, free again, if none better
     }
     pivot_coefficients();
-    child = levels();
+    level = levels();
     for (size_t c = 0; c < closed.size(); ++c) {
-      if (!child[c]) continue;
+      if (level[c] == 0) continue;
       for (const auto& [k, v] : row_of(closed[c])) {
-        if (k == pivot[c] || pivot_of[k] < 0 || v == 0 || child[pivot_of[k]]) continue;
+        if (k == pivot[c] || pivot_of[k] < 0 || v == 0 || level[pivot_of[k]] >= level[c]) continue;
         const Real b = J.coeff(k, closed[c]);
         if (b == 0) continue;
         parents_of[c].emplace_back(pivot_of[k], v);
@@ -379,9 +379,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // the parents' rows before the children's, which add their parents' rows (duplicate columns
   // are summed by the triplets and by reduced_product).
   std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n));
-  for (int level = 0; level < 2; ++level)
+  for (int lv = 0; lv < kCoupledLevels; ++lv)
     for (size_t c = 0; c < closed.size(); ++c) {
-      if (child[c] != level) continue;
+      if (level[c] != lv) continue;
       const Index m = closed[c], p = pivot[c];
       bp[c] = J.coeff(p, m);  // never left out: m is p's own row
       for (const auto& [k, v] : row_of(m)) {
@@ -404,9 +404,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   auto apply = [&](const VecX& rhs, VecX& out) {
     VecX z0 = VecX::Zero(n);
     for (Index m : open) z0(m) = rhs(m) / J.coeff(m, m);
-    for (int level = 0; level < 2; ++level)
+    for (int lv = 0; lv < kCoupledLevels; ++lv)
       for (size_t c = 0; c < closed.size(); ++c) {
-        if (child[c] != level) continue;
+        if (level[c] != lv) continue;
         Real b = rhs(closed[c]);
         for (const auto& [q, v] : parents_of[c]) b -= v * z0(pivot[q]);
         z0(pivot[c]) = b / ap[c];
@@ -416,9 +416,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
     // Closed multipliers from their pivots' rows (out holds 0 for them so far), the children's
     // before their parents'.
     const VecX Aout = times_P(out);
-    for (int level = 1; level >= 0; --level)
+    for (int lv = kCoupledLevels - 1; lv >= 0; --lv)
       for (size_t c = 0; c < closed.size(); ++c) {
-        if (child[c] != level) continue;
+        if (level[c] != lv) continue;
         Real b = rhs(pivot[c]) - Aout(pivot[c]);
         for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
         out(closed[c]) = b / bp[c];
@@ -581,6 +581,27 @@ bool CondensedContactSolver::solve_blocks(const SparseMatrix& J, const std::vect
     blocks_backoff_.failed();
   }
   return false;
+}
+
+std::vector<int> coupled_rows_levels(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling) {
+  const size_t n = coupling.size();
+  std::vector<int> level(n, 0);
+  std::vector<char> in_set(n, 1);  // the rows of the level being split
+  for (int l = 1; l < kCoupledLevels; ++l) {
+    std::vector<std::vector<std::pair<size_t, Real>>> among(n);
+    for (size_t c = 0; c < n; ++c)
+      if (in_set[c])
+        for (const auto& [q, w] : coupling[c])
+          if (in_set[q]) among[c].emplace_back(q, w);
+    const std::vector<char> child = coupled_rows_children(among);
+    bool any = false;
+    for (size_t c = 0; c < n; ++c) {
+      in_set[c] = in_set[c] && child[c];
+      if (in_set[c]) level[c] = l, any = true;
+    }
+    if (!any) break;
+  }
+  return level;
 }
 
 std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling) {

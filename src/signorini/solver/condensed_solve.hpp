@@ -129,6 +129,12 @@ class CondensedContactSolver {
 // -kTransform of its own coefficient each): the mid-side rows become children of the corners,
 // whose rows see the mid-side pivots through the geometry's variation only.
 std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling);
+// Levels 0 .. kCoupledLevels - 1: the children split again by coupled_rows_children over their
+// couplings among themselves, and so on; a row's couplings at the pivots of rows on lower
+// levels are substituted. On quad9 slave facets (the transformed basis a tensor product) the
+// centre node's gap sees the mid-side nodes, whose gaps see the corners: three levels.
+constexpr int kCoupledLevels = 3;
+std::vector<int> coupled_rows_levels(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling);
 
 // Flexible GMRES (Saad 2003, "Iterative Methods for Sparse Linear Systems", alg. 9.6) on
 // A x = r, right-preconditioned, from the first guess x (updated in place): the preconditioned

@@ -1155,11 +1155,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // small: master nodes at the edge of a segment, the normal's variation) the product took
     // 10 s per Newton iteration with every entry and 2.4-3 s with this drop, for the same
     // Krylov iterations (docs/performance.md, session 55).
-    // Coupled rows in two levels (condensed_solve.hpp, coupled_rows_children): a child's
-    // couplings at its parents' pivots are eliminated by substitution (the parents first; the
-    // parents' pivot rows recover the children's multipliers first), and the parents' pivots
-    // are chosen again to dominate the other parents' rows only, as in one process.
-    std::vector<char> child(closed.size(), 0);
+    // Coupled rows in levels (condensed_solve.hpp, coupled_rows_levels): a row's couplings at
+    // the pivots of lower levels' rows are eliminated by substitution (the lowest level first;
+    // the multipliers recovered from the highest level down), and the pivots of level 0 are
+    // chosen again to dominate the other level-0 rows only, as in one process.
+    std::vector<int> level(closed.size(), 0);
     std::vector<std::vector<std::pair<size_t, Real>>> parents_of(closed.size()), children_of(closed.size());
     auto acting = [&](Index k, Index m) {  // J(k, m)
       for (const auto& [i, b] : col_of[m])
@@ -1175,17 +1175,17 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
             if (it != pivot_of.end() && acting(k, closed[c]) != 0)
               coupling[c].emplace_back(it->second, std::abs(a / ap[c]));
           }
-        return coupled_rows_children(coupling);
+        return coupled_rows_levels(coupling);
       };
-      child = levels();
+      level = levels();
       std::map<Index, Real> column_parents;
       for (size_t c = 0; c < closed.size(); ++c)
-        if (!child[c])
+        if (level[c] == 0)
           for (const auto& [k, a] : row_of[closed[c]]) column_parents[k] += std::abs(a);
       for (size_t c = 0; c < closed.size(); ++c)
-        if (!child[c]) pivot_of.erase(pivot[c]);
+        if (level[c] == 0) pivot_of.erase(pivot[c]);
       for (size_t c = 0; c < closed.size(); ++c) {
-        if (child[c]) continue;
+        if (level[c] > 0) continue;
         const Index m = closed[c];
         Real amax = 0, best = 0;
         for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
@@ -1205,12 +1205,13 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         }
         pivot_of[pivot[c]] = c;  // the first choice, free again, if none better
       }
-      child = levels();
+      level = levels();
       for (size_t c = 0; c < closed.size(); ++c) {
-        if (!child[c]) continue;
+        if (level[c] == 0) continue;
         for (const auto& [k, a] : row_of[closed[c]]) {
           const auto it = k != pivot[c] ? pivot_of.find(k) : pivot_of.end();
-          if (it == pivot_of.end() || child[it->second] || std::abs(a) < kCoupledDrop * std::abs(ap[c])) continue;
+          if (it == pivot_of.end() || level[it->second] >= level[c] || std::abs(a) < kCoupledDrop * std::abs(ap[c]))
+            continue;
           const Real b = acting(k, closed[c]);
           if (b == 0) continue;
           parents_of[c].emplace_back(it->second, a);
@@ -1224,12 +1225,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       const auto it = pivot_of.find(k);
       return it != pivot_of.end() && it->second != c;  // a parent's pivot: substituted (elim)
     };
-    // T's pivot rows over the unknowns, the parents' before the children's (which add their
-    // parents' rows, scaled).
+    // T's pivot rows over the unknowns, level by level (a row adds its parents' rows, scaled).
     std::vector<std::map<Index, Real>> elim(closed.size());
-    for (int level = 0; level < 2; ++level)
+    for (int lv = 0; lv < kCoupledLevels; ++lv)
       for (size_t c = 0; c < closed.size(); ++c) {
-        if (child[c] != level) continue;
+        if (level[c] != lv) continue;
         for (const auto& [k, a] : row_of[closed[c]])
           if (k != pivot[c] && !dropped(c, k, a)) elim[c][k] -= a / ap[c];
         for (const auto& [q, a] : parents_of[c])
@@ -1359,9 +1359,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     auto apply = [&](const VecX& rhs, VecX& out) {
       VecX z0 = VecX::Zero(n_);
       for (Index m : open) z0(m) = rhs(m) / diag[m];
-      for (int level = 0; level < 2; ++level)
+      for (int lv = 0; lv < kCoupledLevels; ++lv)
         for (size_t c = 0; c < closed.size(); ++c) {
-          if (child[c] != level) continue;
+          if (level[c] != lv) continue;
           Real b = rhs(closed[c]);
           for (const auto& [q, a] : parents_of[c]) b -= a * z0(pivot[q]);
           z0(pivot[c]) = b / ap[c];
@@ -1381,9 +1381,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       VecX Jout;
       gather(rr, out);
       gather(w, Jout);
-      for (int level = 1; level >= 0; --level)
+      for (int lv = kCoupledLevels - 1; lv >= 0; --lv)
         for (size_t c = 0; c < closed.size(); ++c) {
-          if (child[c] != level) continue;
+          if (level[c] != lv) continue;
           Real b = rhs(pivot[c]) - Jout(pivot[c]);
           for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
           out(closed[c]) = b / bp[c];
