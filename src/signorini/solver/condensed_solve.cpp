@@ -224,23 +224,28 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // row touches, whose own row carries no other closed multiplier.
   std::vector<Index> pivot_of(n, -1);  // unknown -> its closed row
   std::vector<Index> pivot(closed.size(), -1);
+  // Closed row m's best pivot by `score` (|a_mk|, k) among the unknowns not yet a pivot where
+  // its coefficient is at least 0.1 of its largest and on whose row its multiplier acts; -1 if none.
+  auto best_pivot = [&](Index m, const std::function<Real(Real, Index)>& score) {
+    Real amax = 0, best = 0;
+    Index chosen = -1;
+    for (const auto& [k, v] : row_of(m))
+      if (k != m) amax = std::max(amax, std::abs(v));
+    for (const auto& [k, v] : row_of(m)) {
+      const Real a = std::abs(v);
+      if (k == m || a < 0.1 * amax || pivot_of[k] >= 0 || J.coeff(k, m) == 0) continue;
+      const Real s = score(a, k);
+      if (s <= best) continue;
+      best = s;
+      chosen = k;
+    }
+    return chosen;
+  };
   auto choose_pivots = [&](bool coupled) {
     std::fill(pivot_of.begin(), pivot_of.end(), -1);
     std::fill(pivot.begin(), pivot.end(), -1);
     for (size_t c = 0; c < closed.size(); ++c) {
-      const Index m = closed[c];
-      Real amax = 0, best = 0;
-      for (const auto& [k, v] : row_of(m))
-        if (k != m) amax = std::max(amax, std::abs(v));
-      for (const auto& [k, v] : row_of(m)) {
-        const Real a = std::abs(v);
-        if (k == m || a < 0.1 * amax || pivot_of[k] >= 0) continue;
-        if (J.coeff(k, m) == 0) continue;  // the multiplier must act on its pivot's row
-        const Real score = coupled ? a / column[k] : (count[k] == 1 ? a : 0.0);
-        if (score <= best) continue;
-        best = score;
-        pivot[c] = k;
-      }
+      pivot[c] = best_pivot(closed[c], [&](Real a, Index k) { return coupled ? a / column[k] : (count[k] == 1 ? a : 0.0); });
       if (pivot[c] < 0) return false;
       pivot_of[pivot[c]] = static_cast<Index>(c);
     }
@@ -303,19 +308,9 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
       if (level[c] == 0) pivot_of[pivot[c]] = -1;
     for (size_t c = 0; c < closed.size(); ++c) {
       if (level[c] > 0) continue;
-      const Index m = closed[c];
-      Real amax = 0, best = 0;
-      for (const auto& [k, v] : row_of(m))
-        if (k != m) amax = std::max(amax, std::abs(v));
-      for (const auto& [k, v] : row_of(m)) {
-        const Real a = std::abs(v);
-        if (k == m || a < 0.1 * amax || pivot_of[k] >= 0 || J.coeff(k, m) == 0) continue;
-        const Real score = a * a / column_parents[k];
-        if (score <= best) continue;
-        best = score;
-        pivot[c] = k;
-      }
-      pivot_of[pivot[c]] = static_cast<Index>(c);  // the first choice, free again, if none better
+      const Index k = best_pivot(closed[c], [&](Real a, Index j) { return a * a / column_parents[j]; });
+      if (k >= 0) pivot[c] = k;  // else the first choice, free again
+      pivot_of[pivot[c]] = static_cast<Index>(c);
     }
     pivot_coefficients();
     level = levels();

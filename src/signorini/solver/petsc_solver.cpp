@@ -1107,31 +1107,39 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // does the DOF where the row dominates its column, |a_mp| / sum over closed rows |a_m'p|,
     // and the couplings at the other rows' pivots are left out of the elimination (P = J - E);
     // flexible GMRES on J, preconditioned by it, then gives J's step (below).
+    // Closed row c's pivot by `score` (|a_mk|, k) among the unknowns not yet a pivot, where its
+    // coefficient is at least 0.1 of its largest, on whose row its multiplier acts, and that
+    // `allowed` admits; the row's pivot at an earlier solve (of this pattern) while it still
+    // qualifies, so that T's pattern holds (below). pivot[c], ap[c], bp[c] set; false if none.
+    auto pick = [&](size_t c, const std::function<bool(Index)>& allowed, const std::function<Real(Real, Index)>& score) {
+      const Index m = closed[c];
+      Real amax = 0, best = 0;
+      for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
+      std::map<Index, Real> acts;  // J_km over the rows k where m acts
+      for (const auto& [k, b] : col_of[m]) acts[k] = b;
+      const auto before = last_pivot_.find(m);
+      bool kept = false, found = false;
+      for (const auto& [k, a] : row_of[m]) {
+        if (std::abs(a) < 0.1 * amax || pivot_of.count(k) || !acts.count(k) || !allowed(k)) continue;
+        const Real sc = score(std::abs(a), k);
+        const bool earlier = before != last_pivot_.end() && before->second == k;
+        if (kept || (!earlier && sc <= best)) continue;
+        kept = earlier;
+        best = sc;
+        found = true;
+        pivot[c] = k;
+        ap[c] = a;
+        bp[c] = acts[k];
+      }
+      return found;
+    };
     auto choose_pivots = [&](bool coupled) {
       pivot_of.clear();
       for (size_t c = 0; c < closed.size(); ++c) {
-        const Index m = closed[c];
-        Real amax = 0, best = 0;
-        for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
-        std::map<Index, Real> acts;  // J_km over the rows k where m acts
-        for (const auto& [k, b] : col_of[m]) acts[k] = b;
         pivot[c] = -1;
-        // The row's pivot at an earlier solve (of this pattern), while it still qualifies: T's
-        // pattern then holds (below).
-        const auto before = last_pivot_.find(m);
-        bool kept = false;
-        for (const auto& [k, a] : row_of[m]) {
-          if (std::abs(a) < 0.1 * amax || (!coupled && count[k] != 1) || pivot_of.count(k) || !acts.count(k)) continue;
-          const Real score = coupled ? std::abs(a) / column[k] : std::abs(a);
-          const bool earlier = before != last_pivot_.end() && before->second == k;
-          if (kept || (!earlier && score <= best)) continue;
-          kept = earlier;
-          best = score;
-          pivot[c] = k;
-          ap[c] = a;
-          bp[c] = acts[k];
-        }
-        if (pivot[c] < 0) return false;
+        if (!pick(c, [&](Index k) { return coupled || count[k] == 1; },
+                  [&](Real a, Index k) { return coupled ? a / column[k] : a; }))
+          return false;
         pivot_of[pivot[c]] = c;
       }
       if (coupled) return true;
@@ -1186,23 +1194,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         if (level[c] == 0) pivot_of.erase(pivot[c]);
       for (size_t c = 0; c < closed.size(); ++c) {
         if (level[c] > 0) continue;
-        const Index m = closed[c];
-        Real amax = 0, best = 0;
-        for (const auto& [k, a] : row_of[m]) amax = std::max(amax, std::abs(a));
-        const auto before = last_pivot_.find(m);
-        bool kept = false;
-        for (const auto& [k, a] : row_of[m]) {
-          const Real b = acting(k, m);
-          if (std::abs(a) < 0.1 * amax || pivot_of.count(k) || b == 0) continue;
-          const Real score = a * a / column_parents[k];
-          const bool earlier = before != last_pivot_.end() && before->second == k;
-          if (kept || (!earlier && score <= best)) continue;
-          kept = earlier;
-          best = score;
-          pivot[c] = k;
-          ap[c] = a;
-          bp[c] = b;
-        }
+        pick(c, [](Index) { return true; }, [&](Real a, Index k) { return a * a / column_parents[k]; });
         pivot_of[pivot[c]] = c;  // the first choice, free again, if none better
       }
       level = levels();
