@@ -1215,7 +1215,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       if (!coupled) return false;
       if (std::abs(a) < kCoupledDrop * std::abs(ap[c])) return true;
       const auto it = pivot_of.find(k);
-      return it != pivot_of.end() && it->second != c;  // a parent's pivot: substituted (elim)
+      return it != pivot_of.end() && it->second != c;  // another row's pivot: a parent's is substituted (elim)
     };
     // T's pivot rows over the unknowns, level by level (a row adds its parents' rows, scaled).
     std::vector<std::map<Index, Real>> elim(closed.size());
