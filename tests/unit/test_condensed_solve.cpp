@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <map>
 
 #include <Eigen/Dense>
 
@@ -95,6 +96,19 @@ std::vector<std::vector<std::pair<Index, Real>>> cyclic_rows() {
   return rows;
 }
 
+// The rows' couplings as coupled_rows_levels reads them, each row pivoting on its first
+// unknown (its slave one): (row c', |a_{c,p(c')}| / |a_{c,p(c)}|) for each other row's pivot in row c.
+std::vector<std::vector<std::pair<size_t, Real>>> coupling_of(const std::vector<std::vector<std::pair<Index, Real>>>& rows) {
+  std::map<Index, size_t> row_of_pivot;
+  for (size_t j = 0; j < rows.size(); ++j) row_of_pivot[rows[j][0].first] = j;
+  std::vector<std::vector<std::pair<size_t, Real>>> coupling(rows.size());
+  for (size_t j = 0; j < rows.size(); ++j)
+    for (size_t e = 1; e < rows[j].size(); ++e)
+      if (const auto it = row_of_pivot.find(rows[j][e].first); it != row_of_pivot.end())
+        coupling[j].emplace_back(it->second, std::abs(rows[j][e].second / rows[j][0].second));
+  return coupling;
+}
+
 Real error_against_dense(const Saddle& s, const VecX& dz) {
   const VecX exact = MatX(s.J).fullPivLu().solve(s.r);
   return (dz - exact).norm() / exact.norm();
@@ -133,9 +147,8 @@ TEST(CondensedSolve, CoupledRowsAreSharedIntoParentsAndChildren) {
   // The rows of coupled_rows() as coupled_rows_children reads them: the mid-side rows (odd j)
   // couple to two corners each (0.133 / 0.67), the corners to nothing: children and parents.
   const auto rows = coupled_rows();
-  std::vector<std::vector<std::pair<size_t, Real>>> coupling(rows.size());
-  for (size_t j = 1; j < rows.size(); j += 2)
-    coupling[j] = {{j - 1, 0.133 / 0.67}, {j + 1, 0.133 / 0.67}};
+  auto coupling = coupling_of(rows);
+  for (size_t j = 1; j < rows.size(); j += 2) ASSERT_EQ(coupling[j].size(), 2u) << j;
   const std::vector<char> child = coupled_rows_children(coupling);
   for (size_t j = 0; j < rows.size(); ++j) EXPECT_EQ(child[j], j % 2 == 1) << j;
   // A weak coupling back (a corner at 0.05 of its pivot on each mid-side pivot beside it)
@@ -150,14 +163,7 @@ TEST(CondensedSolve, CoupledRowsInThreeLevelsAreEliminatedExactly) {
   // (level 1), the centre rows children of both (level 2): every coupling is substituted and
   // no GMRES step is needed.
   const auto rows = three_level_rows();
-  std::vector<std::vector<std::pair<size_t, Real>>> coupling(rows.size());
-  std::vector<size_t> row_of_slave(60, rows.size());
-  for (size_t j = 0; j < rows.size(); ++j) row_of_slave[rows[j][0].first] = j;
-  for (size_t j = 0; j < rows.size(); ++j)
-    for (size_t e = 1; e < rows[j].size(); ++e)
-      if (row_of_slave[rows[j][e].first] < rows.size())
-        coupling[j].emplace_back(row_of_slave[rows[j][e].first], std::abs(rows[j][e].second / rows[j][0].second));
-  const std::vector<int> level = coupled_rows_levels(coupling);
+  const std::vector<int> level = coupled_rows_levels(coupling_of(rows));
   for (size_t j = 0; j < rows.size(); ++j) EXPECT_EQ(level[j], j < 7 ? 0 : j < 13 ? 1 : 2) << j;
   const Saddle s = make_system(60, rows, 2);
   CondensedContactSolver solver(false);

@@ -283,9 +283,8 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
         if (k == pivot[c]) ap[c] = v;
   };
   pivot_coefficients();
-  std::vector<int> level(closed.size(), 0);
-  // parents_of[c]: (parent c' on a lower level, a_{m,p(c')}); children_of[c']: (child c, J(p(c'), m)).
-  std::vector<std::vector<std::pair<Index, Real>>> parents_of(closed.size()), children_of(closed.size());
+  LevelledRows lr(closed.size());
+  std::vector<int>& level = lr.level;
   if (coupled) {
     auto levels = [&]() {
       std::vector<std::vector<std::pair<size_t, Real>>> coupling(closed.size());
@@ -320,16 +319,11 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
         if (k == pivot[c] || pivot_of[k] < 0 || v == 0 || level[pivot_of[k]] >= level[c]) continue;
         const Real b = J.coeff(k, closed[c]);
         if (b == 0) continue;
-        parents_of[c].emplace_back(pivot_of[k], v);
-        children_of[pivot_of[k]].emplace_back(static_cast<Index>(c), b);
+        lr.substitute(c, static_cast<size_t>(pivot_of[k]), v, b);
       }
     }
   }
-  auto kept = [&](Index c, Index parent) {
-    for (const auto& [q, v] : parents_of[c])
-      if (q == parent) return true;
-    return false;
-  };
+  auto kept = [&](Index c, Index parent) { return lr.substitutes(static_cast<size_t>(c), static_cast<size_t>(parent)); };
   // Coupled rows with an iterative inner solver: loose inner solves, GMRES to the forcing term
   // (kInnerTolerance). With a factorization the inner solve is exact and GMRES goes on to
   // kRefinementTolerance.
@@ -374,19 +368,17 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   // the parents' rows before the children's, which add their parents' rows (duplicate columns
   // are summed by the triplets and by reduced_product).
   std::vector<std::vector<std::pair<Index, Real>>> spread(static_cast<size_t>(n));
-  for (int lv = 0; lv < kCoupledLevels; ++lv)
-    for (size_t c = 0; c < closed.size(); ++c) {
-      if (level[c] != lv) continue;
-      const Index m = closed[c], p = pivot[c];
-      bp[c] = J.coeff(p, m);  // never left out: m is p's own row
-      for (const auto& [k, v] : row_of(m)) {
-        if (k == m || k == p || v == 0 || (coupled && (dropped(m, k) || pivot_of[k] >= 0))) continue;
-        spread[p].emplace_back(ridx[k], -v / ap[c]);
-      }
-      for (const auto& [q, v] : parents_of[c])
-        for (const auto& [j, t] : spread[pivot[q]]) spread[p].emplace_back(j, -v / ap[c] * t);
-      for (const auto& [j, t] : spread[p]) trip.emplace_back(static_cast<int>(p), static_cast<int>(j), t);
+  for (size_t c : lr.order()) {
+    const Index m = closed[c], p = pivot[c];
+    bp[c] = J.coeff(p, m);  // never left out: m is p's own row
+    for (const auto& [k, v] : row_of(m)) {
+      if (k == m || k == p || v == 0 || (coupled && (dropped(m, k) || pivot_of[k] >= 0))) continue;
+      spread[p].emplace_back(ridx[k], -v / ap[c]);
     }
+    for (const auto& [q, v] : lr.parents_of[c])
+      for (const auto& [j, t] : spread[pivot[q]]) spread[p].emplace_back(j, -v / ap[c] * t);
+    for (const auto& [j, t] : spread[p]) trip.emplace_back(static_cast<int>(p), static_cast<int>(j), t);
+  }
   SparseMatrix T(n, nr);
   T.setFromTriplets(trip.begin(), trip.end());
   decltype(trip)().swap(trip);
@@ -399,25 +391,12 @@ bool CondensedContactSolver::solve(const SparseMatrix& J, const std::vector<char
   auto apply = [&](const VecX& rhs, VecX& out) {
     VecX z0 = VecX::Zero(n);
     for (Index m : open) z0(m) = rhs(m) / J.coeff(m, m);
-    for (int lv = 0; lv < kCoupledLevels; ++lv)
-      for (size_t c = 0; c < closed.size(); ++c) {
-        if (level[c] != lv) continue;
-        Real b = rhs(closed[c]);
-        for (const auto& [q, v] : parents_of[c]) b -= v * z0(pivot[q]);
-        z0(pivot[c]) = b / ap[c];
-      }
+    lr.pivot_values(closed, pivot, ap, rhs, z0);
     const VecX rr = T.transpose() * (rhs - times_P(z0));
     out = T * inner_solve(Kr, symmetric, rr, factorized) + z0;
     // Closed multipliers from their pivots' rows (out holds 0 for them so far), the children's
     // before their parents'.
-    const VecX Aout = times_P(out);
-    for (int lv = kCoupledLevels - 1; lv >= 0; --lv)
-      for (size_t c = 0; c < closed.size(); ++c) {
-        if (level[c] != lv) continue;
-        Real b = rhs(pivot[c]) - Aout(pivot[c]);
-        for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
-        out(closed[c]) = b / bp[c];
-      }
+    lr.multipliers(closed, pivot, bp, rhs, times_P(out), out);
   };
   apply(r, dz);
   log::debug("    condensed solve: {} unknowns, {} nonzeros ({}); resident memory {:.0f} MiB", Kr.rows(), Kr.nonZeros(),
@@ -597,6 +576,39 @@ std::vector<int> coupled_rows_levels(const std::vector<std::vector<std::pair<siz
     if (!any) break;
   }
   return level;
+}
+
+bool LevelledRows::substitutes(size_t child, size_t parent) const {
+  for (const auto& [q, a] : parents_of[child])
+    if (q == parent) return true;
+  return false;
+}
+
+std::vector<size_t> LevelledRows::order() const {
+  std::vector<size_t> rows(level.size());
+  for (size_t c = 0; c < rows.size(); ++c) rows[c] = c;
+  std::stable_sort(rows.begin(), rows.end(), [&](size_t x, size_t y) { return level[x] < level[y]; });
+  return rows;
+}
+
+void LevelledRows::pivot_values(const std::vector<Index>& closed, const std::vector<Index>& pivot,
+                                const std::vector<Real>& ap, const VecX& rhs, VecX& z0) const {
+  for (size_t c : order()) {
+    Real b = rhs(closed[c]);
+    for (const auto& [q, a] : parents_of[c]) b -= a * z0(pivot[q]);
+    z0(pivot[c]) = b / ap[c];
+  }
+}
+
+void LevelledRows::multipliers(const std::vector<Index>& closed, const std::vector<Index>& pivot,
+                               const std::vector<Real>& bp, const VecX& rhs, const VecX& Jout, VecX& out) const {
+  const std::vector<size_t> rows = order();
+  for (auto it = rows.rbegin(); it != rows.rend(); ++it) {
+    const size_t c = *it;
+    Real b = rhs(pivot[c]) - Jout(pivot[c]);
+    for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
+    out(closed[c]) = b / bp[c];
+  }
 }
 
 std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling) {

@@ -139,6 +139,33 @@ std::vector<char> coupled_rows_children(const std::vector<std::vector<std::pair<
 constexpr int kCoupledLevels = 3;
 std::vector<int> coupled_rows_levels(const std::vector<std::vector<std::pair<size_t, Real>>>& coupling);
 
+// The closed rows' levels and the couplings substituted between them, for both backends'
+// elimination (indices into their list of closed rows `closed`, with pivot[c], the pivot's
+// coefficient ap[c] in row c and the multiplier's bp[c] on the pivot's row).
+struct LevelledRows {
+  std::vector<int> level;                                          // per closed row (0: none coupled)
+  std::vector<std::vector<std::pair<size_t, Real>>> parents_of;   // (parent c', a_{c,p(c')})
+  std::vector<std::vector<std::pair<size_t, Real>>> children_of;  // (child c, J(p(c'), c's multiplier))
+  explicit LevelledRows(size_t rows = 0) : level(rows, 0), parents_of(rows), children_of(rows) {}
+  void substitute(size_t child, size_t parent, Real a, Real b) {
+    parents_of[child].emplace_back(parent, a);
+    children_of[parent].emplace_back(child, b);
+  }
+  bool substitutes(size_t child, size_t parent) const;
+  // The closed rows, lowest level first (T's pivot rows are built in this order, each adding
+  // its parents' rows).
+  std::vector<size_t> order() const;
+  // z0 on the pivots: each closed row's equation a_c . z0 = rhs(closed[c]), its parents' pivots
+  // substituted, the lowest level first.
+  void pivot_values(const std::vector<Index>& closed, const std::vector<Index>& pivot, const std::vector<Real>& ap,
+                    const VecX& rhs, VecX& z0) const;
+  // The closed multipliers from their pivots' rows, the highest level first: out(closed[c]) =
+  // (rhs(p) - Jout(p) - sum over children J(p, child) out(child)) / bp[c], with Jout = J out
+  // computed while out held 0 on the closed multipliers.
+  void multipliers(const std::vector<Index>& closed, const std::vector<Index>& pivot, const std::vector<Real>& bp,
+                   const VecX& rhs, const VecX& Jout, VecX& out) const;
+};
+
 // Flexible GMRES (Saad 2003, "Iterative Methods for Sparse Linear Systems", alg. 9.6) on
 // A x = r, right-preconditioned, from the first guess x (updated in place): the preconditioned
 // vectors are kept, so the preconditioner may change from step to step (an inner Krylov solve

@@ -1167,8 +1167,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // the pivots of lower levels' rows are eliminated by substitution (the lowest level first;
     // the multipliers recovered from the highest level down), and the pivots of level 0 are
     // chosen again to dominate the other level-0 rows only, as in one process.
-    std::vector<int> level(closed.size(), 0);
-    std::vector<std::vector<std::pair<size_t, Real>>> parents_of(closed.size()), children_of(closed.size());
+    LevelledRows lr(closed.size());
+    std::vector<int>& level = lr.level;
     auto acting = [&](Index k, Index m) {  // J(k, m)
       for (const auto& [i, b] : col_of[m])
         if (i == k) return b;
@@ -1206,8 +1206,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
             continue;
           const Real b = acting(k, closed[c]);
           if (b == 0) continue;
-          parents_of[c].emplace_back(it->second, a);
-          children_of[it->second].emplace_back(c, b);
+          lr.substitute(c, it->second, a, b);
         }
       }
     }
@@ -1219,14 +1218,12 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     };
     // T's pivot rows over the unknowns, level by level (a row adds its parents' rows, scaled).
     std::vector<std::map<Index, Real>> elim(closed.size());
-    for (int lv = 0; lv < kCoupledLevels; ++lv)
-      for (size_t c = 0; c < closed.size(); ++c) {
-        if (level[c] != lv) continue;
-        for (const auto& [k, a] : row_of[closed[c]])
-          if (k != pivot[c] && !dropped(c, k, a)) elim[c][k] -= a / ap[c];
-        for (const auto& [q, a] : parents_of[c])
-          for (const auto& [k, t] : elim[q]) elim[c][k] -= a / ap[c] * t;
-      }
+    for (size_t c : lr.order()) {
+      for (const auto& [k, a] : row_of[closed[c]])
+        if (k != pivot[c] && !dropped(c, k, a)) elim[c][k] -= a / ap[c];
+      for (const auto& [q, a] : lr.parents_of[c])
+        for (const auto& [k, t] : elim[q]) elim[c][k] -= a / ap[c] * t;
+    }
     for (size_t c = 0; c < closed.size(); ++c) {
       last_pivot_[closed[c]] = pivot[c];
       auto& columns = pivot_columns_[pivot[c]];
@@ -1351,13 +1348,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     auto apply = [&](const VecX& rhs, VecX& out) {
       VecX z0 = VecX::Zero(n_);
       for (Index m : open) z0(m) = rhs(m) / diag[m];
-      for (int lv = 0; lv < kCoupledLevels; ++lv)
-        for (size_t c = 0; c < closed.size(); ++c) {
-          if (level[c] != lv) continue;
-          Real b = rhs(closed[c]);
-          for (const auto& [q, a] : parents_of[c]) b -= a * z0(pivot[q]);
-          z0(pivot[c]) = b / ap[c];
-        }
+      lr.pivot_values(closed, pivot, ap, rhs, z0);
       set_owned(x_, z0);
       check(MatMult(A_, x_, w), "MatMult");  // J z0
       set_owned(b_, rhs);
@@ -1373,13 +1364,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       VecX Jout;
       gather(rr, out);
       gather(w, Jout);
-      for (int lv = kCoupledLevels - 1; lv >= 0; --lv)
-        for (size_t c = 0; c < closed.size(); ++c) {
-          if (level[c] != lv) continue;
-          Real b = rhs(pivot[c]) - Jout(pivot[c]);
-          for (const auto& [q, v] : children_of[c]) b -= v * out(closed[q]);
-          out(closed[c]) = b / bp[c];
-        }
+      lr.multipliers(closed, pivot, bp, rhs, Jout, out);
     };
     // Coupled rows: loose inner solves, and flexible GMRES on J to the Newton iteration's
     // forcing term (condensed_solve's constants, so that one process and several take the same
