@@ -101,7 +101,10 @@ signorini::test::Result hertz_tet10_mortar(const std::string& mesh, Real ccx_loa
               r.summary.increments.size(), r.summary.total_iterations);
   EXPECT_NEAR(P, ccx_load, 3e-3 * ccx_load);
   EXPECT_NEAR(signorini::test::peak_pressure(r), p0, p0_tolerance * p0);
-  EXPECT_GE(lowest, 0);
+  // No negative pressure beyond round-off: since session 67 the coupled rows' multipliers are
+  // recovered level by level (condensed_solve.hpp, LevelledRows), and on the coarse mesh one
+  // node's came out at -5.7e-14 MPa (1.3e-17 of p0) where it had been >= 0 before.
+  EXPECT_GE(lowest, -1e-12 * p0);
   return r;
 }
 
