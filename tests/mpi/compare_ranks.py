@@ -117,6 +117,16 @@ tangents = many["tangents"]
 if expected_algebra == "partitioned" and tangents["linear_bodies_assembled"] > 0:
     assert tangents["linear_bodies_assembled"] < tangents["evaluated"], tangents
 krylov = [k for inc in many["increments"] for k in inc.get("krylov_iterations", [])]
+# COMPARE_KRYLOV_RATIO: the N ranks' Krylov iterations over the run, at most this multiple of one
+# process's (the coupled contact rows' condensation on the partitioned matrix leaving out no more
+# than one process does: each GMRES correction on J is one more Krylov solve).
+krylov_ratio = os.environ.get("COMPARE_KRYLOV_RATIO")
+if krylov_ratio:
+    total_one = sum(k for inc in one["increments"] for k in inc.get("krylov_iterations", []))
+    assert total_one > 0 and sum(krylov) <= float(krylov_ratio) * total_one, \
+        "%d Krylov iterations on %d ranks against %d on one (at most %s times)" % (sum(krylov), ranks, total_one,
+                                                                               krylov_ratio)
+    print("Krylov iterations: %d on %d ranks, %d on one" % (sum(krylov), ranks, total_one))
 print("%s with %s: 1 and %d ranks agree to %.1e (%d Newton iterations on 1 rank, %d on %d; Krylov per Newton "
       "iteration on %d ranks: %s; algebra: %s)" % (os.path.basename(deck), linear, ranks, worst, one["total_iterations"],
                                                    many["total_iterations"], ranks, ranks, krylov[:8], many["algebra"]))

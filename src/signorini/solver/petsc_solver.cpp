@@ -999,9 +999,19 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     return s_.type;
   }
 
-  // Coupled rows: a pivot row's coefficients below this fraction of the pivot's are left out of
-  // the elimination (solve_condensed).
+  // Coupled rows: a pivot row's coefficients below a fraction of the pivot's are left out of the
+  // elimination (solve_condensed): kCoupledDrop at most, less where the product can afford it.
+  // Each kept entry k of closed row c's T row spreads J's row and column at c's pivot into row
+  // and column k of T^T J T, about len(J_p) entries; the smallest drop of kCoupledDrops whose
+  // estimated spread, summed over the closed rows, stays within kCoupledFill of J's nonzeros is
+  // taken (the largest otherwise). Measured on 2 ranks with gamg (docs/performance.md, session
+  // 68): the plane-strain cylinder on quad9 (mortar, rows of 24-32 entries, J's rows about 50)
+  // spreads 0.08-0.24 at 1e-4, and its solves took a GMRES correction each at 1e-2 (0 at 1e-4:
+  // linear solve 9.6 -> 6.7 s); the tet10 quarter (tri6 rows of about 190 entries) spreads 0.33-0.36
+  // at 1e-2 and 1.1-1.3 at 1e-4, where the product took 2.7x as long for one correction less.
   static constexpr Real kCoupledDrop = 1e-2;
+  static constexpr Real kCoupledDrops[] = {1e-4, 1e-3, kCoupledDrop};
+  static constexpr Real kCoupledFill = 0.25;
   // solve_condensed's refusal: a structure it cannot eliminate, or a GMRES that stalled.
   struct CannotCondense : FatalModelError {
     CannotCondense(const std::string& message, std::string reason) : FatalModelError(message), why(std::move(reason)) {}
@@ -1169,6 +1179,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // chosen again to dominate the other level-0 rows only, as in one process.
     LevelledRows lr(closed.size());
     std::vector<int>& level = lr.level;
+    Real drop = kCoupledDrop;  // the coupled rows' drop (kCoupledDrops), chosen once the pivots are known
     auto acting = [&](Index k, Index m) {  // J(k, m)
       for (const auto& [i, b] : col_of[m])
         if (i == k) return b;
@@ -1198,11 +1209,12 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         pivot_of[pivot[c]] = c;  // the first choice, free again, if none better
       }
       level = levels();
+      drop = coupled_drop(closed, pivot, ap, row_of);
       for (size_t c = 0; c < closed.size(); ++c) {
         if (level[c] == 0) continue;
         for (const auto& [k, a] : row_of[closed[c]]) {
           const auto it = k != pivot[c] ? pivot_of.find(k) : pivot_of.end();
-          if (it == pivot_of.end() || level[it->second] >= level[c] || std::abs(a) < kCoupledDrop * std::abs(ap[c]))
+          if (it == pivot_of.end() || level[it->second] >= level[c] || std::abs(a) < drop * std::abs(ap[c]))
             continue;
           const Real b = acting(k, closed[c]);
           if (b == 0) continue;
@@ -1212,7 +1224,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     auto dropped = [&](size_t c, Index k, Real a) {
       if (!coupled) return false;
-      if (std::abs(a) < kCoupledDrop * std::abs(ap[c])) return true;
+      if (std::abs(a) < drop * std::abs(ap[c])) return true;
       const auto it = pivot_of.find(k);
       return it != pivot_of.end() && it->second != c;  // another row's pivot: a parent's is substituted (elim)
     };
@@ -1371,7 +1383,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // steps).
     refine_condensed(q, coupled, apply, r, du, "coupled contact rows (segment_to_segment, mortar)", w, rr, inner);
     log::debug("    condensed on {} ranks: {} closed, {} open{}; T {:.2f} s, T^T J T {:.2f} s ({}{}), diagonal {:.2f} s, Krylov {:.2f} s ({} iterations{}); this rank's peak memory {:.0f} MiB",
-               size_, closed.size(), open.size(), coupled ? " (coupled rows)" : "", t_plan, t_ptap - t_plan,
+               size_, closed.size(), open.size(), coupled ? fmt::format(" (coupled rows, drop {:.0e})", drop) : "", t_plan, t_ptap - t_plan,
                same ? "updated in place" : "new pattern", same ? "" : fmt::format(", its pattern {:.2f} s", t_symbolic), t_rhs - t_ptap, t_krylov, inner,
                coupled ? fmt::format(", {} GMRES steps", refinements_) : "", log::peak_memory_mib());
     if (!du.allFinite()) throw SolverError("linear solver " + s_.type + " gave a non-finite solution");
@@ -1583,6 +1595,32 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     VecDestroy(&w);
     VecDestroy(&rr);
     iterations_ = inner;
+  }
+  // The coupled rows' drop (kCoupledDrops, kCoupledFill): the same on every rank (each rank
+  // counts the lengths of the pivots' rows it owns, summed over the ranks).
+  Real coupled_drop(const std::vector<Index>& closed, const std::vector<Index>& pivot, const std::vector<Real>& ap,
+                    std::map<Index, std::vector<std::pair<Index, Real>>>& row_of) const {
+    std::vector<double> length(closed.size(), 0.0);  // nonzeros in J's row at the pivot
+    for (size_t c = 0; c < closed.size(); ++c) {
+      const PetscInt p = row(pivot[c]);
+      if (p < rstart_ || p >= rend_) continue;
+      PetscInt nc = 0;
+      check(MatGetRow(A_, p, &nc, nullptr, nullptr), "MatGetRow");
+      length[c] = static_cast<double>(nc);
+      check(MatRestoreRow(A_, p, &nc, nullptr, nullptr), "MatRestoreRow");
+    }
+    MPI_Allreduce(MPI_IN_PLACE, length.data(), static_cast<int>(length.size()), MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    const double budget = kCoupledFill * static_cast<double>(global_nonzeros());
+    for (Real d : kCoupledDrops) {
+      double spread = 0;
+      for (size_t c = 0; c < closed.size(); ++c) {
+        int kept = 0;
+        for (const auto& [k, a] : row_of[closed[c]]) kept += k != pivot[c] && a != 0 && std::abs(a) >= d * std::abs(ap[c]);
+        spread += kept * length[c];
+      }
+      if (spread <= budget) return d;
+    }
+    return kCoupledDrop;
   }
   // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): Z^T (J + Delta) T applied to a vector, as
   // formed by condensed_product, against Z^T, J, Delta and T applied in turn.
