@@ -1006,9 +1006,10 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   // estimated spread, summed over the closed rows, stays within kCoupledFill of J's nonzeros is
   // taken (the largest otherwise). Measured on 2 ranks with gamg (docs/performance.md, session
   // 68): the plane-strain cylinder on quad9 (mortar, rows of 24-32 entries, J's rows about 50)
-  // spreads 0.08-0.24 at 1e-4, and its solves took a GMRES correction each at 1e-2 (0 at 1e-4:
-  // linear solve 9.6 -> 6.7 s); the tet10 quarter (tri6 rows of about 190 entries) spreads 0.33-0.36
-  // at 1e-2 and 1.1-1.3 at 1e-4, where the product took 2.7x as long for one correction less.
+  // spreads 0.08-0.24 at 1e-4, and its solves took a GMRES correction each at 1e-2 (3 over the
+  // run at 1e-4: 830 -> 484 Krylov iterations, linear solve 9.8 -> 6.1 s); the tet10 quarter (tri6
+  // rows of about 190 entries) spreads 0.33-0.36 at 1e-2 and 1.1-1.3 at 1e-4, where the product
+  // took 2.7x as long for one correction less.
   static constexpr Real kCoupledDrop = 1e-2;
   static constexpr Real kCoupledDrops[] = {1e-4, 1e-3, kCoupledDrop};
   static constexpr Real kCoupledFill = 0.25;
