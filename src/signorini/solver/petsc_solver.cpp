@@ -1600,7 +1600,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   // The coupled rows' drop (kCoupledDrops, kCoupledFill): the same on every rank (each rank
   // counts the lengths of the pivots' rows it owns, summed over the ranks).
   Real coupled_drop(const std::vector<Index>& closed, const std::vector<Index>& pivot, const std::vector<Real>& ap,
-                    std::map<Index, std::vector<std::pair<Index, Real>>>& row_of) const {
+                    const std::map<Index, std::vector<std::pair<Index, Real>>>& row_of) const {
     std::vector<double> length(closed.size(), 0.0);  // nonzeros in J's row at the pivot
     for (size_t c = 0; c < closed.size(); ++c) {
       const PetscInt p = row(pivot[c]);
@@ -1616,7 +1616,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       double spread = 0;
       for (size_t c = 0; c < closed.size(); ++c) {
         int kept = 0;
-        for (const auto& [k, a] : row_of[closed[c]]) kept += k != pivot[c] && a != 0 && std::abs(a) >= d * std::abs(ap[c]);
+        for (const auto& [k, a] : row_of.at(closed[c])) kept += k != pivot[c] && a != 0 && std::abs(a) >= d * std::abs(ap[c]);
         spread += kept * length[c];
       }
       if (spread <= budget) return d;
