@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 #include "signorini/core/error.hpp"
@@ -138,6 +139,86 @@ TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
   EXPECT_NE(text.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
   EXPECT_NE(text.find("Name=\"pressure\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir + "/contact_pair_one.pvd"));
+}
+
+namespace {
+// A Float64 point array of a VTU file written by write_vtu_file (raw appended data, each array
+// behind its UInt64 byte count), by name.
+std::vector<double> vtu_array(const std::string& text, const std::string& name) {
+  const std::regex re("Name=\"" + name + "\"[^>]*offset=\"(\\d+)\"");
+  std::smatch m;
+  if (!std::regex_search(text, m, re)) return {};
+  const std::string tag = "<AppendedData encoding=\"raw\">\n_";
+  const size_t at = text.find(tag) + tag.size() + std::stoul(m[1]);
+  std::uint64_t bytes;
+  std::memcpy(&bytes, text.data() + at, 8);
+  std::vector<double> v(bytes / 8);
+  std::memcpy(v.data(), text.data() + at + 8, bytes);
+  return v;
+}
+}  // namespace
+
+// A slave node of several pairs shows, in the whole mesh's contact fields, the pair where it is
+// most engaged (until session 69 the last pair's: the tube crush example's nodes closed on its
+// first plate showed the second plate's "far", with no pressure).
+TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
+  using S = ContactInterface::SlaveState;
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  const S far{0, ContactInterface::far, nan, 0}, open_near{0, ContactInterface::open, 0.1, 0},
+      open_away{0, ContactInterface::open, 0.5, 0}, closed_light{0, ContactInterface::closed, 0, 1},
+      slipping_hard{0, ContactInterface::slipping, 0, 3};
+  EXPECT_TRUE(more_engaged(open_away, far));
+  EXPECT_FALSE(more_engaged(far, open_away));
+  EXPECT_TRUE(more_engaged(open_near, open_away));
+  EXPECT_FALSE(more_engaged(open_away, open_near));
+  EXPECT_TRUE(more_engaged(closed_light, open_near));
+  EXPECT_TRUE(more_engaged(slipping_hard, closed_light));
+  EXPECT_FALSE(more_engaged(closed_light, slipping_hard));
+  EXPECT_FALSE(more_engaged(far, far));
+
+  // The upper block pressed on the lower one (pair "pressed", first) and, as the slave of a
+  // second pair, above a rigid plane 0.3 below its bottom face, open or out of reach (pair
+  // "beyond", last): the slave nodes show the first pair's closed state and pressure.
+  auto mat = std::make_shared<LinearElastic>(100, 0.3);
+  Model m = test::two_block_model(mat, mat);
+  ContactPairSettings pressed, beyond;
+  pressed.name = "pressed";
+  pressed.master = "lower_ymax";
+  pressed.slave = "upper_ymin";
+  beyond.name = "beyond";
+  beyond.rigid = true;
+  beyond.obstacle.shape = "plane";
+  beyond.obstacle.point = Vec3(0, 0.2, 0);
+  beyond.slave = "upper_ymin";
+  m.contacts = {pressed, beyond};
+  Step st;
+  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
+                  test::fix("upper_ymax", 1, -0.01)};
+  m.steps = {st};
+  const std::string dir = (std::filesystem::temp_directory_path() / "signorini_two_pair_output").string();
+  std::filesystem::remove_all(dir);
+  ResultsWriter w(m, dir);
+  Analysis a(m);
+  w.write_initial(a);
+  a.on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
+  ASSERT_TRUE(a.run().completed);
+  std::ifstream vtu(dir + "/increment_01_0001.vtu");
+  const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
+  const std::vector<double> status = vtu_array(text, "contact_status"), pressure = vtu_array(text, "contact_pressure");
+  ASSERT_EQ(status.size(), static_cast<size_t>(m.mesh.num_nodes()));
+  ASSERT_EQ(pressure.size(), status.size());
+  const auto& pairs = a.contacts();
+  ASSERT_EQ(pairs.size(), 2u);
+  int closed = 0;
+  for (const S& ns : pairs[0]->slave_states()) {
+    ASSERT_EQ(ns.status, ContactInterface::closed) << "node " << ns.node;
+    EXPECT_EQ(status[ns.node], ContactInterface::closed) << "node " << ns.node;
+    EXPECT_EQ(pressure[ns.node], ns.pressure) << "node " << ns.node;
+    EXPECT_GT(pressure[ns.node], 0) << "node " << ns.node;
+    ++closed;
+  }
+  EXPECT_EQ(closed, 5);
+  for (const S& ns : pairs[1]->slave_states()) EXPECT_NE(ns.status, ContactInterface::closed) << "node " << ns.node;
 }
 
 namespace {

@@ -39,6 +39,13 @@ std::string json_number(Real v) {
 
 }  // namespace
 
+bool more_engaged(const ContactInterface::SlaveState& a, const ContactInterface::SlaveState& b) {
+  auto level = [](int status) { return std::min(status, static_cast<int>(ContactInterface::closed)); };
+  if (level(a.status) != level(b.status)) return level(a.status) > level(b.status);
+  if (level(a.status) == ContactInterface::closed) return a.pressure > b.pressure;
+  return a.status == ContactInterface::open && a.gap < b.gap;
+}
+
 Real separating_radius(std::vector<std::pair<Real, bool>> pts) {
   std::sort(pts.begin(), pts.end());
   Index wrong = 0;  // threshold below every point: every inside point is on the wrong side
@@ -212,16 +219,23 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   d.point_fields.push_back(std::move(node_id));
   if (!a.contacts().empty()) {
     // Contact state on the slave nodes (status: -1 not a slave node, 0 no master within
-    // reach, 1 open, 2 closed); pressure positive in compression.
+    // reach, 1 open, 2 closed); pressure positive in compression. A slave node of several
+    // pairs: the pair where it is most engaged (more_engaged; until session 69 the last pair's,
+    // which hid a node closed on the first plate of examples/tube_crush behind the second's
+    // "far").
     VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField pres{"contact_pressure", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField status{"contact_status", 1, std::vector<Real>(m.mesh.num_nodes(), -1.0), {}};
+    std::vector<ContactInterface::SlaveState> shown(m.mesh.num_nodes(), {-1, -1, 0, 0});
     for (auto& c : a.contacts())
-      for (const auto& ns : c->slave_states()) {
-        gap.values[ns.node] = ns.status ? ns.gap : 0.0;
-        pres.values[ns.node] = ns.pressure;
-        status.values[ns.node] = ns.status;
-      }
+      for (const auto& ns : c->slave_states())
+        if (shown[ns.node].status < 0 || more_engaged(ns, shown[ns.node])) shown[ns.node] = ns;
+    for (const auto& ns : shown) {
+      if (ns.status < 0) continue;
+      gap.values[ns.node] = ns.status ? ns.gap : 0.0;
+      pres.values[ns.node] = ns.pressure;
+      status.values[ns.node] = ns.status;
+    }
     d.point_fields.push_back(std::move(gap));
     d.point_fields.push_back(std::move(pres));
     d.point_fields.push_back(std::move(status));

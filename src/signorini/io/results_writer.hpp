@@ -25,6 +25,13 @@ std::vector<CheckResult> evaluate_checks(const Analysis& analysis);
 // no point is inside. Used for the radius of a 3D contact or stick zone (component r).
 Real separating_radius(std::vector<std::pair<Real, bool>> points);
 
+// A slave node of several pairs (a tube's outer surface pressed by two plates, each its own
+// pair) has one value in the whole mesh's contact fields: the state of the pair where it is
+// most engaged. True when `a` is more engaged than `b`: in contact (closed or slipping) before
+// open before far; in contact in both, the larger pressure; open in both, the smaller gap.
+// Each pair's own files (contact_<name>_*.vtu and .csv) hold its states.
+bool more_engaged(const ContactInterface::SlaveState& a, const ContactInterface::SlaveState& b);
+
 class ResultsWriter {
  public:
   // `rank`: the MPI rank. Rank 0 writes every file; under mpirun with the cells shared out,
