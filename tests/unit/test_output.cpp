@@ -101,27 +101,46 @@ TEST(Output, PvdListsFilesWithTimes) {
 #include "signorini/io/results_writer.hpp"
 #include "signorini/solver/analysis.hpp"
 
+namespace {
+// The two blocks of test::two_block_model, the upper pressed 0.01 down onto the lower, with the
+// contact pairs `pairs`, run in one increment with a ResultsWriter into a fresh temporary
+// directory `name`.
+struct PressedBlocks {
+  Model m;
+  std::string dir;
+  std::unique_ptr<Analysis> a;
+  bool completed = false;
+};
+std::unique_ptr<PressedBlocks> press_blocks(const std::vector<ContactPairSettings>& pairs, const std::string& name) {
+  auto mat = std::make_shared<LinearElastic>(100, 0.3);
+  auto run = std::make_unique<PressedBlocks>();
+  run->m = test::two_block_model(mat, mat);
+  run->m.contacts = pairs;
+  Step st;
+  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
+                  test::fix("upper_ymax", 1, -0.01)};
+  run->m.steps = {st};
+  run->dir = (std::filesystem::temp_directory_path() / name).string();
+  std::filesystem::remove_all(run->dir);
+  ResultsWriter w(run->m, run->dir);
+  run->a = std::make_unique<Analysis>(run->m);
+  w.write_initial(*run->a);
+  run->a->on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
+  run->completed = run->a->run().completed;
+  return run;
+}
+}  // namespace
+
 TEST(Output, ContactSurfaceFilesPerPairAndIncrement) {
   // Two blocks pressed together: a contact CSV per increment with the documented header and
   // one row per slave node, and the slave surface as its own VTU (its facets as cells).
-  auto mat = std::make_shared<LinearElastic>(100, 0.3);
-  Model m = test::two_block_model(mat, mat);
   ContactPairSettings cs;
   cs.name = "pair one";
   cs.master = "lower_ymax";
   cs.slave = "upper_ymin";
-  m.contacts = {cs};
-  Step st;
-  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
-                  test::fix("upper_ymax", 1, -0.01)};
-  m.steps = {st};
-  const std::string dir = (std::filesystem::temp_directory_path() / "signorini_contact_output").string();
-  std::filesystem::remove_all(dir);
-  ResultsWriter w(m, dir);
-  Analysis a(m);
-  w.write_initial(a);
-  a.on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
-  ASSERT_TRUE(a.run().completed);
+  const auto run = press_blocks({cs}, "signorini_contact_output");
+  ASSERT_TRUE(run->completed);
+  const std::string& dir = run->dir;
   std::ifstream csv(dir + "/contact_pair_one_01_0001.csv");
   ASSERT_TRUE(csv) << "no contact CSV";
   std::string header, line;
@@ -179,8 +198,6 @@ TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
   // The upper block pressed on the lower one (pair "pressed", first) and, as the slave of a
   // second pair, above a rigid plane 0.3 below its bottom face, open or out of reach (pair
   // "beyond", last): the slave nodes show the first pair's closed state and pressure.
-  auto mat = std::make_shared<LinearElastic>(100, 0.3);
-  Model m = test::two_block_model(mat, mat);
   ContactPairSettings pressed, beyond;
   pressed.name = "pressed";
   pressed.master = "lower_ymax";
@@ -190,24 +207,14 @@ TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
   beyond.obstacle.shape = "plane";
   beyond.obstacle.point = Vec3(0, 0.2, 0);
   beyond.slave = "upper_ymin";
-  m.contacts = {pressed, beyond};
-  Step st;
-  st.dirichlet = {test::fix("lower_ymin", 0), test::fix("lower_ymin", 1), test::fix("upper_ymax", 0),
-                  test::fix("upper_ymax", 1, -0.01)};
-  m.steps = {st};
-  const std::string dir = (std::filesystem::temp_directory_path() / "signorini_two_pair_output").string();
-  std::filesystem::remove_all(dir);
-  ResultsWriter w(m, dir);
-  Analysis a(m);
-  w.write_initial(a);
-  a.on_increment([&](const Analysis& an, const IncrementRecord& r) { w.write_increment(an, r); });
-  ASSERT_TRUE(a.run().completed);
-  std::ifstream vtu(dir + "/increment_01_0001.vtu");
+  const auto run = press_blocks({pressed, beyond}, "signorini_two_pair_output");
+  ASSERT_TRUE(run->completed);
+  std::ifstream vtu(run->dir + "/increment_01_0001.vtu");
   const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
   const std::vector<double> status = vtu_array(text, "contact_status"), pressure = vtu_array(text, "contact_pressure");
-  ASSERT_EQ(status.size(), static_cast<size_t>(m.mesh.num_nodes()));
+  ASSERT_EQ(status.size(), static_cast<size_t>(run->m.mesh.num_nodes()));
   ASSERT_EQ(pressure.size(), status.size());
-  const auto& pairs = a.contacts();
+  const auto& pairs = run->a->contacts();
   ASSERT_EQ(pairs.size(), 2u);
   int closed = 0;
   for (const S& ns : pairs[0]->slave_states()) {
