@@ -412,6 +412,70 @@ TEST(Petsc, PartitionedMatrixDropsAnEntryOutsideItsPattern) {
 #endif
 }
 
+// The unknowns after the nodes' (contact multipliers, an obstacle's unknowns) go to the rank
+// owning most of the node DOFs they are coupled with (until session 69 all to the last rank);
+// each rank's rows are padded to a multiple of the node block. The matrix, assembled outside
+// the cells as contact constraints are, multiplies as the same entries summed densely.
+TEST(Petsc, ExtraUnknownsGoToTheRankOfTheNodesTheyCouple) {
+#ifndef SIGNORINI_HAVE_PETSC
+  GTEST_SKIP() << "built without PETSc";
+#else
+  // Two quad4 cells far apart (coordinate bisection gives each rank one on 2 ranks), 16 node
+  // DOFs, and 3 extra unknowns: 16 with cell 0's nodes 0 and 1; 17 with cell 1's nodes 4 to 6;
+  // 18 with nodes 4 to 6 and, in another group, with node 0 (6 DOFs of rank 1's against 2).
+  std::vector<Vec3> X;
+  for (int c = 0; c < 2; ++c)
+    for (const auto& [x, y] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) X.emplace_back(x + 3.0 * c, y, 0);
+  ElementBlock block{ElementType::quad4, {}, {}};
+  block.add({0, 1, 2, 3}, 1);
+  block.add({4, 5, 6, 7}, 2);
+  const std::vector<const ElementBlock*> cells{&block};
+  const DofMap dofs(8, 2, cells);
+  const Index nodal = dofs.num_dofs(), n = nodal + 3;
+  auto node_dofs = [&](std::initializer_list<Index> nodes, std::initializer_list<Index> extras) {
+    std::vector<Index> g;
+    for (Index k : nodes)
+      for (int d = 0; d < 2; ++d) g.push_back(dofs.dof(k, d));
+    for (Index e : extras) g.push_back(nodal + e);
+    return g;
+  };
+  const std::vector<std::vector<Index>> couplings{node_dofs({0, 1}, {0}), node_dofs({4, 5, 6}, {1, 2}),
+                                                  node_dofs({0}, {2})};
+  LinearSolverSettings settings;
+  settings.type = "mumps";
+  std::unique_ptr<AlgebraBackend> backend = make_petsc_backend(settings);
+  backend->set_coordinates(&X);
+  backend->build_pattern(dofs, cells, couplings, n);
+  if (backend->ranks() == 2) {
+    // Rank 0: cell 0's 8 DOFs and unknown 16, padded to 10; rank 1: cell 1's 8, 17 and 18.
+    EXPECT_EQ(backend->owned_begin(), backend->rank() == 0 ? 0 : 10);
+    EXPECT_EQ(backend->owned_end(), backend->rank() == 0 ? 10 : 20);
+  } else if (backend->ranks() == 1) {
+    EXPECT_EQ(backend->owned_end() - backend->owned_begin(), 20) << "19 unknowns, padded to the node block";
+  }
+  // Each group's block added as a contact constraint's (every rank alike, outside the cells).
+  MatX dense = MatX::Zero(n, n);
+  backend->zero();
+  for (const auto& g : couplings) {
+    const int m = static_cast<int>(g.size());
+    MatX k(m, m);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) k(a, b) = 1 + a + 0.5 * b + 0.01 * static_cast<Real>(g[a] * n + g[b]);
+    backend->matrix().add(g.data(), m, k);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) dense(g[a], g[b]) += k(a, b);
+  }
+  EXPECT_FALSE(backend->missed());
+  for (Index j = 0; j < n; ++j) {
+    VecX x = VecX::Zero(n), y;
+    x(j) = 1;
+    backend->multiply(x, y);
+    ASSERT_EQ(y.size(), n);
+    EXPECT_LT((y - dense.col(j)).norm(), 1e-12 * dense.col(j).norm() + 1e-300) << "column " << j;
+  }
+#endif
+}
+
 namespace {
 int total_krylov(const AnalysisSummary& s) {
   int k = 0;

@@ -662,8 +662,9 @@ class PetscKsp final : public LinearSolver {
 // distributed AIJ matrix. The cells are shared out by recursive coordinate bisection of their
 // centroids (every rank computes the same partition from the same replicated mesh), and the
 // nodes renumbered part after part, so that each rank owns a contiguous range of rows: the
-// nodes of its cells not already taken by a lower rank (the last rank also the multipliers and
-// obstacle unknowns, and the identity rows that pad the size to a multiple of the node block).
+// nodes of its cells not already taken by a lower rank, the multipliers and obstacle unknowns
+// coupled mostly with its nodes, and identity rows that pad its rows to a multiple of the node
+// block (number()).
 // The permutation stays inside this class: the analysis sees its own numbering. Entries added
 // into another rank's rows travel to it when the assembly ends (PETSc's stash). No rank holds
 // the whole matrix; the vectors stay replicated (every rank runs the same Newton iterations).
@@ -677,8 +678,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     destroy();
   }
   std::string name() const override { return fmt::format("distributed over {} ranks", size_); }
-  Index owned_begin() const override { return std::min(rstart_, n_); }
-  Index owned_end() const override { return std::min(rend_, n_); }
+  // PETSc's rows (number(): a rank's padding rows among them).
+  Index owned_begin() const override { return rstart_; }
+  Index owned_end() const override { return rend_; }
   int ranks() const override { return size_; }
   int rank() const override { return rank_; }
   void set_coordinates(const std::vector<Vec3>* X) override { X_ = X; }
@@ -707,14 +709,23 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     nodal_ = dofs.num_dofs();
     const int ndpn = std::max(dofs.dofs_per_node(), 1);
     bs_ = ndpn;
-    padded_ = (n_ + bs_ - 1) / bs_ * bs_;
     if (part_.empty()) {
       if (s_.partition == "ptscotch") graph_partition(cells);
       else partition(cells);
     }
-    number(dofs, cells);
+    const Index rows_before = rend_ - rstart_;
+    number(dofs, cells, couplings);
     rstart_ = starts_[rank_];
     rend_ = starts_[rank_ + 1];
+    // A rank's rows change in number when an extra unknown changes owner (a rolling body's
+    // angle, coupled with the nodes in contact, as the contact moves across the cut): the
+    // Krylov solver, set up on the old sizes, is made anew (PETSc refuses other sizes).
+    int resized = ksp_ && rend_ - rstart_ != rows_before ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &resized, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+    if (resized) {
+      KSPDestroy(&ksp_);
+      configured_ = false;
+    }
     Mat pre = preallocator();
     std::vector<PetscInt> idx;
     std::vector<PetscScalar> zeros;
@@ -778,8 +789,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     check(MatZeroEntries(A_), "MatZeroEntries");
     extra_.clear();
     missed_here_ = false;
-    // The padding rows' identity (on the last rank).
-    for (Index i = std::max(rstart_, n_); i < rend_; ++i) {
+    // The padding rows' identity (number()).
+    for (Index i = rstart_; i < rend_; ++i) {
+      if (unknown_[i] >= 0) continue;
       const PetscInt row = static_cast<PetscInt>(i);
       const PetscScalar one = 1.0;
       check(MatSetValues(A_, 1, &row, 1, &row, &one, ADD_VALUES), "MatSetValues");
@@ -890,7 +902,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     const PetscScalar* d = nullptr;
     VecGetArrayRead(x_, &d);
     Real sum = 0;
-    for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
+    for (Index i = rstart_; i < rend_; ++i)
+      if (unknown_[i] >= 0) sum += std::abs(d[i - rstart_]);
     VecRestoreArrayRead(x_, &d);
     const_cast<PetscBackend*>(this)->sum_over_ranks(&sum, 1);
     return n_ > 0 ? sum / static_cast<Real>(n_) : 1.0;
@@ -898,8 +911,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void apply_dirichlet(const std::vector<char>& constrained, Real scale) override {
     ensure_assembled();
     std::vector<PetscInt> rows;
-    for (Index i = rstart_; i < std::min(rend_, n_); ++i)
-      if (constrained[unknown_[i]]) rows.push_back(static_cast<PetscInt>(i));
+    for (Index i = rstart_; i < rend_; ++i)
+      if (unknown_[i] >= 0 && constrained[unknown_[i]]) rows.push_back(static_cast<PetscInt>(i));
     check(MatZeroRowsColumns(A_, static_cast<PetscInt>(rows.size()), rows.data(), scale, nullptr, nullptr),
           "MatZeroRowsColumns");
     for (auto& [ij, v] : extra_)
@@ -1253,7 +1266,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // Row i of T (a PETSc row; every rank can build any of them from what it holds).
     auto t_row = [&](Index i, std::vector<std::pair<PetscInt, PetscScalar>>& rt) {
       rt.clear();
-      const Index u = i < n_ ? unknown_[i] : -1;
+      const Index u = unknown_[i];
       const auto it = u >= 0 ? pivot_of.find(u) : pivot_of.end();
       // A stored zero on the diagonal of the multipliers' and pivots' rows, so that T^T J T
       // has their diagonal in its pattern (the decoupled diagonal below, added in place).
@@ -1419,7 +1432,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     // zero on the diagonal for a multiplier, a pivot's T_P or Z_P row over its block's other DOFs.
     auto t_row = [&](Index i, bool z, std::vector<std::pair<PetscInt, PetscScalar>>& rt) {
       rt.clear();
-      const Index u = i < n_ ? unknown_[i] : -1;
+      const Index u = unknown_[i];
       const bool multiplier = u >= 0 && mult[u], pivot = u >= 0 && !multiplier && pivot_of[u] >= 0;
       if (multiplier || pivot) rt.emplace_back(static_cast<PetscInt>(i), 0.0);
       if (!multiplier && !pivot) rt.emplace_back(static_cast<PetscInt>(i), 1.0);
@@ -1666,7 +1679,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     {
       const PetscScalar* d = nullptr;
       VecGetArrayRead(x_, &d);
-      for (Index i = rstart_; i < std::min(rend_, n_); ++i) sum += std::abs(d[i - rstart_]);
+      for (Index i = rstart_; i < rend_; ++i)
+        if (unknown_[i] >= 0) sum += std::abs(d[i - rstart_]);
       VecRestoreArrayRead(x_, &d);
     }
     sum_over_ranks(&sum, 1);
@@ -1676,7 +1690,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       PetscScalar* d = nullptr;
       VecGetArray(x_, &d);
       for (Index i = rstart_; i < rend_; ++i) {
-        const Index u = i < n_ ? unknown_[i] : -1;
+        const Index u = unknown_[i];
         d[i - rstart_] = u >= 0 && (mult[u] || pivot(u)) ? mean : 0.0;
       }
       VecRestoreArray(x_, &d);
@@ -1810,6 +1824,8 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void near_nullspace(Mat M) {
     if (s_.type != "gamg" || !layout_ || layout_->size() != n_) return;
     UnknownLayout permuted = *layout_;
+    permuted.x.assign(static_cast<size_t>(padded_), Vec3::Zero());
+    permuted.comp.assign(static_cast<size_t>(padded_), -1);
     for (Index i = 0; i < n_; ++i) {
       permuted.x[row(i)] = layout_->x[i];
       permuted.comp[row(i)] = layout_->comp[i];
@@ -1974,7 +1990,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   void set_owned(Vec v, const VecX& full) const {
     PetscScalar* p = nullptr;
     check(VecGetArray(v, &p), "VecGetArray");
-    for (Index i = rstart_; i < rend_; ++i) p[i - rstart_] = i < n_ ? full(unknown_[i]) : 0.0;
+    for (Index i = rstart_; i < rend_; ++i) p[i - rstart_] = unknown_[i] >= 0 ? full(unknown_[i]) : 0.0;
     VecRestoreArray(v, &p);
   }
   void gather(Vec v, VecX& full) const {
@@ -2117,9 +2133,15 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   }
 
   // PETSc's numbering: a node block belongs to the lowest rank among its cells' (nodes in no
-  // cell: the last rank); rank 0's blocks come first, then rank 1's, ..., each rank's in the
-  // analysis' order; the unknowns after the nodes' last stay where they are.
-  void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells) {
+  // cell: the last rank); an unknown after the nodes' (a contact multiplier, an obstacle's or a
+  // turning body's unknown) to the rank owning most of the node DOFs it is coupled with (the
+  // coupling groups holding it; ties: the lower rank; none: the last rank), so that a
+  // multiplier's row lies with its slave node's and its master's (until session 69 all of them
+  // were the last rank's). Each rank's rows: its node blocks in the analysis' order, then its
+  // extra unknowns in the analysis' order, then identity rows up to a multiple of the node
+  // block (PETSc's block size divides each rank's rows).
+  void number(const DofMap& dofs, const std::vector<const ElementBlock*>& cells,
+              const std::vector<std::vector<Index>>& couplings) {
     const int ndpn = bs_;
     const Index slots = dofs.num_dofs() / ndpn;
     // The owners come from the whole mesh's cells, at the first pattern: later patterns may
@@ -2144,20 +2166,48 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       slot_owner_ = std::move(owner);
     }
     const std::vector<int>& owner = slot_owner_;
+    const Index first_extra = slots * ndpn;
+    std::vector<int> extra_owner(static_cast<size_t>(n_ - first_extra), size_ - 1);
+    {
+      std::vector<std::map<int, Index>> votes(extra_owner.size());
+      std::map<int, Index> group_votes;
+      for (const auto& group : couplings) {
+        group_votes.clear();
+        for (Index i : group)
+          if (i >= 0 && i < first_extra) ++group_votes[owner[i / ndpn]];
+        for (Index i : group)
+          if (i >= first_extra && i < n_)
+            for (const auto& [r, count] : group_votes) votes[i - first_extra][r] += count;
+      }
+      for (size_t x = 0; x < votes.size(); ++x) {
+        Index most = 0;
+        for (const auto& [r, count] : votes[x])  // by rank, ascending: ties keep the lower
+          if (count > most) most = count, extra_owner[x] = r;
+      }
+    }
     std::vector<Index> slot(static_cast<size_t>(slots), -1);
+    row_.assign(static_cast<size_t>(n_), -1);
     Index next = 0;
     starts_.assign(static_cast<size_t>(size_) + 1, 0);
     for (int r = 0; r < size_; ++r) {
-      starts_[r] = next * ndpn;
+      starts_[r] = next;
       for (Index k = 0; k < slots; ++k)
-        if (owner[k] == r) slot[k] = next++;
+        if (owner[k] == r) slot[k] = next / ndpn, next += ndpn;
+      for (size_t x = 0; x < extra_owner.size(); ++x)
+        if (extra_owner[x] == r) row_[first_extra + static_cast<Index>(x)] = next++;
+      next = (next + ndpn - 1) / ndpn * ndpn;
     }
-    starts_[size_] = padded_;
-    row_.resize(static_cast<size_t>(n_));
+    starts_[size_] = next;
+    padded_ = next;
     unknown_.assign(static_cast<size_t>(padded_), -1);
     for (Index i = 0; i < n_; ++i) {
-      row_[i] = i < slots * ndpn ? slot[i / ndpn] * ndpn + i % ndpn : i;
+      if (i < first_extra) row_[i] = slot[i / ndpn] * ndpn + i % ndpn;
       unknown_[row_[i]] = i;
+    }
+    if (first_extra < n_) {
+      std::vector<Index> held(static_cast<size_t>(size_), 0);
+      for (int r : extra_owner) ++held[r];
+      log::debug("the {} unknowns after the nodes' held by the ranks: {}", n_ - first_extra, fmt::join(held, ", "));
     }
     find_ghosts(dofs, cells);
   }
