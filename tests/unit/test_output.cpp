@@ -211,9 +211,14 @@ TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
   ASSERT_TRUE(run->completed);
   std::ifstream vtu(run->dir + "/increment_01_0001.vtu");
   const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
-  const std::vector<double> status = vtu_array(text, "contact_status"), pressure = vtu_array(text, "contact_pressure");
+  const std::vector<double> status = vtu_array(text, "contact_status"), pressure = vtu_array(text, "contact_pressure"),
+                            gap = vtu_array(text, "contact_gap");
   ASSERT_EQ(status.size(), static_cast<size_t>(run->m.mesh.num_nodes()));
   ASSERT_EQ(pressure.size(), status.size());
+  ASSERT_EQ(gap.size(), status.size());
+  // A node of no pair has no gap (NaN; until session 69 a 0, a touching node's).
+  for (Index n = 0; n < run->m.mesh.num_nodes(); ++n)
+    if (status[n] < 0) EXPECT_TRUE(std::isnan(gap[n])) << "node " << n << " of no pair: gap " << gap[n];
   const auto& pairs = run->a->contacts();
   ASSERT_EQ(pairs.size(), 2u);
   int closed = 0;
@@ -221,6 +226,7 @@ TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
     ASSERT_EQ(ns.status, ContactInterface::closed) << "node " << ns.node;
     EXPECT_EQ(status[ns.node], ContactInterface::closed) << "node " << ns.node;
     EXPECT_EQ(pressure[ns.node], ns.pressure) << "node " << ns.node;
+    EXPECT_EQ(gap[ns.node], ns.gap) << "node " << ns.node;
     EXPECT_GT(pressure[ns.node], 0) << "node " << ns.node;
     ++closed;
   }

@@ -219,11 +219,14 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
   d.point_fields.push_back(std::move(node_id));
   if (!a.contacts().empty()) {
     // Contact state on the slave nodes (status: -1 not a slave node, 0 no master within
-    // reach, 1 open, 2 closed); pressure positive in compression. A slave node of several
+    // reach, 1 open, 2 closed); pressure positive in compression; the gap NaN where it has no
+    // value (not a slave node, or no master within reach: until session 69 written as 0, a
+    // touching node's gap, where the CSV and the Python module said nan). A slave node of several
     // pairs: the pair where it is most engaged (more_engaged; until session 69 the last pair's,
     // which hid a node closed on the first plate of examples/tube_crush behind the second's
     // "far").
-    VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
+    const Real none = std::numeric_limits<Real>::quiet_NaN();
+    VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), none), {}};
     VtuField pres{"contact_pressure", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField status{"contact_status", 1, std::vector<Real>(m.mesh.num_nodes(), -1.0), {}};
     std::vector<ContactInterface::SlaveState> shown(m.mesh.num_nodes(), {-1, -1, 0, 0});
@@ -232,7 +235,7 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
         if (shown[ns.node].status < 0 || more_engaged(ns, shown[ns.node])) shown[ns.node] = ns;
     for (const auto& ns : shown) {
       if (ns.status < 0) continue;
-      gap.values[ns.node] = ns.status ? ns.gap : 0.0;
+      gap.values[ns.node] = ns.status ? ns.gap : none;
       pres.values[ns.node] = ns.pressure;
       status.values[ns.node] = ns.status;
     }
@@ -453,14 +456,15 @@ void ResultsWriter::write_contact_vtu(const Analysis& a, Real time, int step, in
     VtuData d;
     d.points = &pts;
     for (auto& b : blocks) d.cells.push_back(&b);
-    VtuField gap{"gap", 1, std::vector<Real>(pts.size(), 0.0), {}};
+    const Real none = std::numeric_limits<Real>::quiet_NaN();  // a gap without value: no master within reach
+    VtuField gap{"gap", 1, std::vector<Real>(pts.size(), none), {}};
     VtuField pres{"pressure", 1, std::vector<Real>(pts.size(), 0.0), {}};
     VtuField status{"status", 1, std::vector<Real>(pts.size(), 0.0), {}};
     VtuField id{"node_id", 1, std::vector<Real>(pts.size(), 0.0), {}};
     for (const auto& ns : c->slave_states()) {
       const Index k = local[ns.node];
       if (k < 0) continue;
-      gap.values[k] = ns.status ? ns.gap : 0.0;
+      gap.values[k] = ns.status ? ns.gap : none;
       pres.values[k] = ns.pressure;
       status.values[k] = ns.status;
     }
