@@ -229,16 +229,15 @@ void ResultsWriter::write_vtu(const Analysis& a, Real time, int step, int inc) {
     VtuField gap{"contact_gap", 1, std::vector<Real>(m.mesh.num_nodes(), none), {}};
     VtuField pres{"contact_pressure", 1, std::vector<Real>(m.mesh.num_nodes(), 0.0), {}};
     VtuField status{"contact_status", 1, std::vector<Real>(m.mesh.num_nodes(), -1.0), {}};
-    std::vector<ContactInterface::SlaveState> shown(m.mesh.num_nodes(), {-1, -1, 0, 0});
     for (auto& c : a.contacts())
-      for (const auto& ns : c->slave_states())
-        if (shown[ns.node].status < 0 || more_engaged(ns, shown[ns.node])) shown[ns.node] = ns;
-    for (const auto& ns : shown) {
-      if (ns.status < 0) continue;
-      gap.values[ns.node] = ns.status ? ns.gap : none;
-      pres.values[ns.node] = ns.pressure;
-      status.values[ns.node] = ns.status;
-    }
+      for (const auto& ns : c->slave_states()) {
+        const Index n = ns.node;
+        const ContactInterface::SlaveState shown{n, static_cast<int>(status.values[n]), gap.values[n], pres.values[n]};
+        if (shown.status >= 0 && !more_engaged(ns, shown)) continue;
+        gap.values[n] = ns.status ? ns.gap : none;
+        pres.values[n] = ns.pressure;
+        status.values[n] = ns.status;
+      }
     d.point_fields.push_back(std::move(gap));
     d.point_fields.push_back(std::move(pres));
     d.point_fields.push_back(std::move(status));

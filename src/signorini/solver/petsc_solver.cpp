@@ -1823,7 +1823,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   // GAMG's near-nullspace on `M` (the layout in PETSc's row order).
   void near_nullspace(Mat M) {
     if (s_.type != "gamg" || !layout_ || layout_->size() != n_) return;
-    UnknownLayout permuted = *layout_;
+    UnknownLayout permuted;
+    permuted.dim = layout_->dim;
+    permuted.axisymmetric = layout_->axisymmetric;
     permuted.x.assign(static_cast<size_t>(padded_), Vec3::Zero());
     permuted.comp.assign(static_cast<size_t>(padded_), -1);
     for (Index i = 0; i < n_; ++i) {
