@@ -726,7 +726,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       KSPDestroy(&ksp_);
       configured_ = false;
     }
-    Mat pre = preallocator();
+    Mat pre = preallocator(true);
     std::vector<PetscInt> idx;
     std::vector<PetscScalar> zeros;
     auto insert = [&]() {
@@ -767,7 +767,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       idx.assign(1, static_cast<PetscInt>(i));
       insert();
     }
-    A_ = preallocated(pre);
+    A_ = preallocated(pre, true);
     check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "assembly");
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "assembly");
     // Element blocks come column-major; an entry outside the pattern is stored (and reported
@@ -1330,9 +1330,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       T_pattern_ = std::move(pattern);
       // T^T J T's pattern: the product's entries gathered by a MATPREALLOCATOR.
       const double t_start = timer.seconds();
-      Mat pre = preallocator();
+      Mat pre = preallocator(false);
       condensed_product(pre, special);
-      Kr_ = preallocated(pre);
+      Kr_ = preallocated(pre, false);
       // Every row holds its diagonal (J's, or T's stored zero), so the decoupled diagonal
       // below adds in place; an entry outside this pattern would be a mistake, not a malloc.
       MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
@@ -1501,9 +1501,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       check(MatSetBlockSize(T_, bs_), "MatSetBlockSize");
       check(MatSetBlockSize(Z_, bs_), "MatSetBlockSize");
       T_pattern_ = std::move(pattern);
-      Mat pre = preallocator();
+      Mat pre = preallocator(false);
       condensed_product(pre, special, &left, &delta);
-      Kr_ = preallocated(pre);
+      Kr_ = preallocated(pre, false);
       MatSetOption(Kr_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
     } else {
       check(MatZeroEntries(Kr_), "MatZeroEntries");
@@ -1705,18 +1705,24 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
   }
 
   // A MATPREALLOCATOR of this rank's rows (entries added to it in any rows make the pattern),
-  // and the AIJ matrix preallocated from it, zeros on its pattern (not yet assembled).
-  Mat preallocator() const {
+  // and the AIJ matrix preallocated from it, zeros on its pattern (not yet assembled), of the
+  // node block's block size. PETSc's preallocator keeps its pattern by blocks of its block size
+  // and fills whole blocks: `exact` gives it block size 1 and the matrix its block size after
+  // the preallocation, so that the pattern holds the entries added and no others. J's pattern is
+  // exact (until session 69 the multipliers' rows and columns were filled by 3x3 blocks: 381 483
+  // entries on 2 ranks against 359 721 in one process on the Hertz sphere at hc 0.015); the
+  // condensed products keep node blocks (their updates in place add within them).
+  Mat preallocator(bool exact) const {
     const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
     Mat pre = nullptr;
     check(MatCreate(PETSC_COMM_WORLD, &pre), "MatCreate");
     check(MatSetType(pre, MATPREALLOCATOR), "MatSetType");
     check(MatSetSizes(pre, nloc, nloc, ng, ng), "MatSetSizes");
-    check(MatSetBlockSize(pre, bs_), "MatSetBlockSize");
+    check(MatSetBlockSize(pre, exact ? 1 : bs_), "MatSetBlockSize");
     check(MatSetUp(pre), "MatSetUp");
     return pre;
   }
-  Mat preallocated(Mat& pre) const {
+  Mat preallocated(Mat& pre, bool exact) const {
     const PetscInt nloc = static_cast<PetscInt>(rend_ - rstart_), ng = static_cast<PetscInt>(padded_);
     check(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
     check(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY), "assembly (pattern)");
@@ -1724,8 +1730,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     check(MatCreate(PETSC_COMM_WORLD, &M), "MatCreate");
     check(MatSetSizes(M, nloc, nloc, ng, ng), "MatSetSizes");
     check(MatSetType(M, MATAIJ), "MatSetType");
-    check(MatSetBlockSize(M, bs_), "MatSetBlockSize");
+    if (!exact) check(MatSetBlockSize(M, bs_), "MatSetBlockSize");
     check(MatPreallocatorPreallocate(pre, PETSC_TRUE, M), "MatPreallocatorPreallocate");
+    if (exact) check(MatSetBlockSize(M, bs_), "MatSetBlockSize");
     MatDestroy(&pre);
     return M;
   }
