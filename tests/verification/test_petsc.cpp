@@ -348,6 +348,30 @@ struct FinalizePetsc : ::testing::Environment {
 const auto* const kFinalizePetsc = ::testing::AddGlobalTestEnvironment(new FinalizePetsc);
 #endif
 
+#ifdef SIGNORINI_HAVE_PETSC
+namespace {
+// Two quad4 cells 3 apart that share no node: 8 nodes, 16 DOFs, no coupling between the cells
+// (coordinate bisection gives each of 2 ranks one). Built in place: `cells` points at `block`.
+ElementBlock two_quads() {
+  ElementBlock b{ElementType::quad4, {}, {}};
+  b.add({0, 1, 2, 3}, 1);
+  b.add({4, 5, 6, 7}, 2);
+  return b;
+}
+struct TwoDistantQuads {
+  std::vector<Vec3> X = [] {
+    std::vector<Vec3> x;
+    for (int c = 0; c < 2; ++c)
+      for (const auto& [px, py] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) x.emplace_back(px + 3.0 * c, py, 0);
+    return x;
+  }();
+  ElementBlock block = two_quads();
+  std::vector<const ElementBlock*> cells{&block};
+  DofMap dofs{8, 2, cells};
+};
+}  // namespace
+#endif
+
 // The partitioned backend (make_petsc_backend, on one rank here, on two in
 // mpi.partitioned_matrix_drops_outside_pattern_np2) and an entry outside its
 // pattern, as a contact constraint that meets new DOFs adds one: the entry is dropped and
@@ -359,15 +383,10 @@ TEST(Petsc, PartitionedMatrixDropsAnEntryOutsideItsPattern) {
 #ifndef SIGNORINI_HAVE_PETSC
   GTEST_SKIP() << "built without PETSc";
 #else
-  // Two quad4 cells that share no node: 8 nodes, 16 DOFs, no coupling between the cells.
-  std::vector<Vec3> X;
-  for (int c = 0; c < 2; ++c)
-    for (const auto& [x, y] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) X.emplace_back(x + 3.0 * c, y, 0);
-  ElementBlock block{ElementType::quad4, {}, {}};
-  block.add({0, 1, 2, 3}, 1);
-  block.add({4, 5, 6, 7}, 2);
-  const std::vector<const ElementBlock*> cells{&block};
-  const DofMap dofs(8, 2, cells);
+  const TwoDistantQuads quads;  // no coupling between the cells
+  const std::vector<Vec3>& X = quads.X;
+  const std::vector<const ElementBlock*>& cells = quads.cells;
+  const DofMap& dofs = quads.dofs;
   LinearSolverSettings settings;
   settings.type = "mumps";
   std::unique_ptr<AlgebraBackend> backend = make_petsc_backend(settings);
@@ -424,14 +443,11 @@ TEST(Petsc, ExtraUnknownsGoToTheRankOfTheNodesTheyCouple) {
   // Two quad4 cells far apart (coordinate bisection gives each rank one on 2 ranks), 16 node
   // DOFs, and 3 extra unknowns: 16 with cell 0's nodes 0 and 1; 17 with cell 1's nodes 4 to 6;
   // 18 with nodes 4 to 6 and, in another group, with node 0 (6 DOFs of rank 1's against 2).
-  std::vector<Vec3> X;
-  for (int c = 0; c < 2; ++c)
-    for (const auto& [x, y] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) X.emplace_back(x + 3.0 * c, y, 0);
-  ElementBlock block{ElementType::quad4, {}, {}};
-  block.add({0, 1, 2, 3}, 1);
-  block.add({4, 5, 6, 7}, 2);
-  const std::vector<const ElementBlock*> cells{&block};
-  const DofMap dofs(8, 2, cells);
+  const TwoDistantQuads quads;
+  const std::vector<Vec3>& X = quads.X;
+  const ElementBlock& block = quads.block;
+  const std::vector<const ElementBlock*>& cells = quads.cells;
+  const DofMap& dofs = quads.dofs;
   const Index nodal = dofs.num_dofs(), n = nodal + 3;
   auto node_dofs = [&](std::initializer_list<Index> nodes, std::initializer_list<Index> extras) {
     std::vector<Index> g;
