@@ -13,16 +13,27 @@ being below the default iterative_above), or what COMPARE_EXPECT_AUTO names (gam
 unsymmetric 3D model, at any size); "auto@K" sets iterative_above K, below the example's
 unknowns, and the N ranks must pick gamg (a symmetric 3D example whose multipliers the
 distributed backend condenses). summary.json's linear type says what was picked.
-Usage: compare_ranks.py SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
+--step=one runs the one-process run alone (WORKDIR/np1) and checks that it completed;
+--step=many then runs the N ranks and compares them with it (the suite runs the two as two
+tests, the first a fixture of the second, so that the one-process run takes one core beside
+other tests while the N ranks hold N; session 70). Without --step, both in turn.
+Usage: compare_ranks.py [--step=one|many] SIGNORINI EXAMPLE_DECK LINEAR RANKS TOLERANCE WORKDIR [ALGEBRA [PARTITION]]"""
+import hashlib
+import json
 import os
 import re
 import sys
 
 from mpi_case import agree, fields, launcher, read_deck, run_signorini, write_deck
 
-signorini, deck, linear, ranks, tolerance, work = sys.argv[1:7]
-expected_algebra = sys.argv[7] if len(sys.argv) > 7 else None
-partition = sys.argv[8] if len(sys.argv) > 8 else "rcb"
+args = sys.argv[1:]
+step = "both"
+if args and args[0].startswith("--step="):
+    step = args.pop(0)[len("--step="):]
+    assert step in ("one", "many"), "--step=%s: one or many" % step
+signorini, deck, linear, ranks, tolerance, work = args[0:6]
+expected_algebra = args[6] if len(args) > 6 else None
+partition = args[7] if len(args) > 7 else "rcb"
 ranks, tolerance = int(ranks), float(tolerance)
 os.makedirs(work, exist_ok=True)
 text = read_deck(deck)  # a solver section of our own below
@@ -54,7 +65,28 @@ def run(n):
     return run_signorini(signorini, copy, os.path.join(work, "np%d" % n), n, mpirun, env, "np %d" % n)
 
 
-one, _ = run(1)
+# What the one-process run was made from: the deck's text and the program's file (its size and
+# time), so that --step=many refuses a one-process run of another deck or another build.
+stamp = {"deck": hashlib.sha256(text.encode()).hexdigest(),
+         "signorini": [os.stat(signorini).st_size, os.stat(signorini).st_mtime_ns]}
+stamp_path = os.path.join(work, "np1", "made_from.json")
+if step == "many":
+    assert os.path.exists(stamp_path), "%s: no one-process run (run --step=one first)" % stamp_path
+    with open(stamp_path) as f:
+        assert json.load(f) == stamp, "%s: the one-process run is of another deck or build" % stamp_path
+    with open(os.path.join(work, "np1", "summary.json")) as f:
+        one = json.load(f)
+else:
+    if os.path.exists(stamp_path):
+        os.remove(stamp_path)
+    one, _ = run(1)
+    assert one["status"] == "completed", one["status"]
+    with open(stamp_path, "w") as f:
+        json.dump(stamp, f)
+    if step == "one":
+        print("%s with %s on one process: %s, %d Newton iterations" % (
+            os.path.basename(deck), linear, one["status"], one["total_iterations"]))
+        sys.exit(0)
 many, log = run(ranks)
 assert one["status"] == "completed" and many["status"] == "completed", (one["status"], many["status"])
 assert one["mpi_ranks"] == 1 and many["mpi_ranks"] == ranks, (one["mpi_ranks"], many["mpi_ranks"])
