@@ -162,7 +162,7 @@ void check_combination(const ContactCombination& c, int theta = 1, bool finite =
   std::vector<BoundaryTraction::Cells> cells_of_bodies;
   for (auto& [name, blocks] : mesh.regions)
     for (auto& b : blocks) cells_of_bodies.push_back({&b, &elastic});
-  const BoundaryTraction traction(cells_of_bodies, mesh.nodes, as);
+  BoundaryTraction traction(cells_of_bodies, mesh.nodes, as);
   cs.nitsche_exact_tangent = true;
   cs.nitsche_theta = theta;
   // Nitsche's tangential parameter is its normal one: the friction coefficient (or Tresca's
@@ -473,7 +473,7 @@ TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
   const LinearElastic elastic(100.0, 0.3);
   std::vector<BoundaryTraction::Cells> lower;
   for (auto& b : mesh.regions.at("lower_domain")) lower.push_back({&b, &elastic});
-  const BoundaryTraction traction(lower, mesh.nodes, as);
+  BoundaryTraction traction(lower, mesh.nodes, as);
   try {
     pair.set_boundary_traction(&traction);
     FAIL() << "a slave facet without a deformable cell was accepted";
@@ -483,7 +483,7 @@ TEST(Nitsche, SlaveFacetWithoutACellIsRefused) {
   // With the upper block's cells it is accepted.
   std::vector<BoundaryTraction::Cells> both = lower;
   for (auto& b : mesh.regions.at("upper_domain")) both.push_back({&b, &elastic});
-  const BoundaryTraction all(both, mesh.nodes, as);
+  BoundaryTraction all(both, mesh.nodes, as);
   EXPECT_NO_THROW(pair.set_boundary_traction(&all));
 }
 
@@ -503,7 +503,7 @@ TEST(Nitsche, FiniteStrainTakesThetaZeroOnly) {
   std::vector<BoundaryTraction::Cells> cells;
   for (auto& [n, bs] : mesh.regions)
     for (auto& b : bs) cells.push_back({&b, &elastic});
-  const BoundaryTraction traction(cells, mesh.nodes, as);
+  BoundaryTraction traction(cells, mesh.nodes, as);
   for (int theta : {1, 0}) {
     ContactInterface pair(nitsche_pair("mortar", theta), mesh, as, 100.0, false);
     pair.set_boundary_traction(&traction);

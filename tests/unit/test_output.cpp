@@ -217,8 +217,11 @@ TEST(Output, ANodeOfSeveralPairsShowsThePairWhereItIsMostEngaged) {
   ASSERT_EQ(pressure.size(), status.size());
   ASSERT_EQ(gap.size(), status.size());
   // A node of no pair has no gap (NaN; until session 69 a 0, a touching node's).
-  for (Index n = 0; n < run->m.mesh.num_nodes(); ++n)
-    if (status[n] < 0) EXPECT_TRUE(std::isnan(gap[n])) << "node " << n << " of no pair: gap " << gap[n];
+  for (Index n = 0; n < run->m.mesh.num_nodes(); ++n) {
+    if (status[n] < 0) {
+      EXPECT_TRUE(std::isnan(gap[n])) << "node " << n << " of no pair: gap " << gap[n];
+    }
+  }
   const auto& pairs = run->a->contacts();
   ASSERT_EQ(pairs.size(), 2u);
   int closed = 0;

@@ -87,7 +87,7 @@ class ContactInterface {
   bool full_newton_steps() const {
     return enforcement_->full_steps() && (enforcement_->uses_multipliers() || !frictional());
   }
-  void set_boundary_traction(const BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
+  void set_boundary_traction(BoundaryTraction* t) { discretization_->set_boundary_traction(t); }
   // Several MPI ranks (null: one process): the discretization may share its evaluation out
   // (Discretization::set_rank_exchange); the exchange outlives the pair.
   void set_rank_exchange(const RankExchange* r) {

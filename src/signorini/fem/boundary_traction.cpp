@@ -18,7 +18,7 @@ BoundaryTraction::BoundaryTraction(std::vector<Cells> cells, const std::vector<V
                   c.material->model() + "' has " + std::to_string(c.material->history_size()) + " history values");
 }
 
-std::vector<Index> BoundaryTraction::locate(const std::vector<std::vector<Index>>& facets) const {
+std::vector<Index> BoundaryTraction::locate(const std::vector<std::vector<Index>>& facets) {
   // Facets by their sorted node lists (which identify a facet of a conforming mesh), then
   // every cell facet looked up.
   std::map<std::vector<Index>, std::vector<size_t>> by_nodes;

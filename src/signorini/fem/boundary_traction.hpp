@@ -27,8 +27,11 @@ class BoundaryTraction {
   BoundaryTraction(std::vector<Cells> cells, const std::vector<Vec3>& X, AnalysisSettings settings);
 
   // The cell that owns each facet (node lists in the facet's order): a handle, -1 for a facet
-  // no cell owns.
-  std::vector<Index> locate(const std::vector<std::vector<Index>>& facets) const;
+  // no cell owns. It adds the owners to this object's table (so two threads must not locate on
+  // one object, nor read handles while another locates: until session 70 this was a const
+  // method over a mutable table, and a unit test's two thread-ranks sharing one object failed
+  // once in a while, "a facet node is not a node of its cell").
+  std::vector<Index> locate(const std::vector<std::vector<Index>>& facets);
   // Marks in `keep` (one flag per cell of `block`) the cells that own a facet located so far
   // (Body::keep_cells must keep them).
   void mark_needed(const ElementBlock* block, std::vector<char>& keep) const;
@@ -60,7 +63,7 @@ class BoundaryTraction {
   std::vector<Cells> cells_;
   const std::vector<Vec3>* X_;
   AnalysisSettings settings_;
-  mutable std::vector<Owner> owners_;
+  std::vector<Owner> owners_;
 };
 
 }  // namespace signorini

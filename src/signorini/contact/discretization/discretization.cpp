@@ -109,7 +109,7 @@ class BoxGrid {
 
 }  // namespace
 
-void Discretization::set_boundary_traction(const BoundaryTraction*) {
+void Discretization::set_boundary_traction(BoundaryTraction*) {
   throw Error(name() + " does not use the bodies' boundary traction (Nitsche's method needs segment_to_segment)");
 }
 
@@ -904,7 +904,7 @@ class SegmentToSegment final : public DeformableMaster {
     segment(x);
   }
 
-  void set_boundary_traction(const BoundaryTraction* t) override {
+  void set_boundary_traction(BoundaryTraction* t) override {
     traction_ = t;
     cell_ = t->locate(slave_facets_.facets);
     cell_nodes_.assign(cell_.size(), {});

@@ -79,7 +79,7 @@ class Discretization {
   // Nitsche's method (segment_to_segment): the bodies' boundary traction, set before the
   // first detect (throws Error when a discretization cannot use it or a slave facet has no
   // owning cell), and the integration points of the last build (null: none).
-  virtual void set_boundary_traction(const BoundaryTraction*);
+  virtual void set_boundary_traction(BoundaryTraction*);
   // Node-to-segment: per slave node, the master facet to keep (-1, or an empty vector: choose
   // the closest) as long as the node projects onto it, up to kHeldFacetTolerance of it beyond
   // its edges. The others ignore it.
