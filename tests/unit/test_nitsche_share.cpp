@@ -6,6 +6,7 @@
 // both ranks hold the one-process values, and the same bits.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -22,7 +23,9 @@ using signorini::test::DenseMatrix;
 
 namespace {
 
-// Ranks as threads of one process: allgather waits until every rank has given its bytes.
+// Ranks as threads of one process: allgather waits until every rank has given its bytes (at
+// most a minute: a rank that failed and left never comes, and the test fails instead of
+// hanging).
 class ThreadRanks {
  public:
   explicit ThreadRanks(int size) : slots_(static_cast<size_t>(size)) {}
@@ -36,7 +39,8 @@ class ThreadRanks {
       cv_.notify_all();
     } else {
       const long generation = generation_;
-      cv_.wait(lock, [&] { return generation_ != generation; });
+      if (!cv_.wait_for(lock, std::chrono::seconds(60), [&] { return generation_ != generation; }))
+        throw Error("thread rank " + std::to_string(rank) + ": the other ranks did not come to the allgather");
     }
     ++calls_;
     return result_;
