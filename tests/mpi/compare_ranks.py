@@ -55,7 +55,8 @@ for edit in filter(None, os.environ.get("COMPARE_DECK_EDIT", "").split("|")):
 copy = write_deck(work, text)
 
 # SIGNORINI_CHECK_CONDENSED_PRODUCT: the partitioned backend checks its T^T J T (condensed
-# contact multipliers) against PETSc's MatPtAP at every solve and stops the run if they differ.
+# contact multipliers, or friction's Z^T (J + Delta) T) applied to a vector against its factors
+# applied in turn, at every solve, and stops the run if they differ.
 # SIGNORINI_CHECK_CELL_SUMS: it checks the owners' sums of the internal forces against the
 # whole vector's reduction at every residual, and stops the run if they differ.
 mpirun, env = launcher(SIGNORINI_CHECK_CONDENSED_PRODUCT="1", SIGNORINI_CHECK_CELL_SUMS="1")
