@@ -1351,7 +1351,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     condensed_product(Kr_, special);
     check(MatAssemblyBegin(Kr_, MAT_FINAL_ASSEMBLY), "assembly (T^T J T)");
     check(MatAssemblyEnd(Kr_, MAT_FINAL_ASSEMBLY), "assembly (T^T J T)");
-    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_condensed_product();
+    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_product(T_, nullptr, "T^T J T");
     const double t_ptap = timer.seconds();
     // The decoupled rows (pivots and multipliers): the mean magnitude of the diagonal.
     add_decoupled_diagonal(mult, [&](Index u) { return pivot_of.count(u) > 0; },
@@ -1524,7 +1524,7 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     check(MatAssemblyBegin(Kr_, MAT_FINAL_ASSEMBLY), "assembly (Z^T (J + Delta) T)");
     check(MatAssemblyEnd(Kr_, MAT_FINAL_ASSEMBLY), "assembly (Z^T (J + Delta) T)");
     const double t_product = timer.seconds();
-    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_blocks_product(delta);
+    if (std::getenv("SIGNORINI_CHECK_CONDENSED_PRODUCT")) check_product(Z_, &delta, "Z^T (J + Delta) T");
     add_decoupled_diagonal(mult, [&](Index u) { return pivot_of[u] >= 0; }, static_cast<Index>(mlist.size()) +
                            static_cast<Index>(std::count_if(pivot_of.begin(), pivot_of.end(), [](Index b) { return b >= 0; })));
     if (symmetric_ || !ksp_) configured_ = false;
@@ -1636,11 +1636,17 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     return kCoupledDrop;
   }
-  // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): Z^T (J + Delta) T applied to a vector, as
-  // formed by condensed_product, against Z^T, J, Delta and T applied in turn.
+  // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): the reduced matrix Kr_ applied to a dense
+  // vector, as condensed_product formed it, against its factors applied in turn: L^T (J + Delta) T
+  // with L = Z and Delta's entries for friction's blocks, L = T and no Delta for the contact
+  // rows (`what` names the product). One dense vector with no zero entry tells the differences
+  // an entrywise comparison would (but for cancellations of measure zero); until session 71 T^T J
+  // T was compared with PETSc's MatPtAP entry by entry, whose product and MatAXPY on two patterns
+  // took 7 of the 22 s of the tet10 mortar test's two ranks.
   // `delta`: Delta's entries in this rank's rows (PETSc's numbering, from rstart_), those the
-  // product was formed with.
-  void check_blocks_product(const std::vector<std::vector<std::pair<PetscInt, PetscScalar>>>& delta) {
+  // product was formed with (null: none).
+  void check_product(Mat left, const std::vector<std::vector<std::pair<PetscInt, PetscScalar>>>* delta,
+                     const std::string& what) {
     VecX v(n_), tv, y;
     for (Index i = 0; i < n_; ++i) v(i) = std::sin(0.37 * static_cast<Real>(i) + 0.1);
     Vec w = nullptr;
@@ -1655,10 +1661,11 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
       set_owned(x_, tv);
       check(MatMult(A_, x_, w), "MatMult");
       gather(w, y);
-      for (size_t l = 0; l < delta.size(); ++l)
-        for (const auto& [j, val] : delta[l]) y(unknown_[rstart_ + static_cast<Index>(l)]) += val * tv(unknown_[j]);
+      if (delta)
+        for (size_t l = 0; l < delta->size(); ++l)
+          for (const auto& [j, val] : (*delta)[l]) y(unknown_[rstart_ + static_cast<Index>(l)]) += val * tv(unknown_[j]);
       set_owned(x_, y);
-      check(MatMultTranspose(Z_, x_, w), "MatMultTranspose");
+      check(MatMultTranspose(left, x_, w), "MatMultTranspose");
       gather(w, steps);
     } catch (...) {
       VecDestroy(&w);
@@ -1666,9 +1673,9 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
     }
     VecDestroy(&w);
     const Real diff = (direct - steps).norm(), norm = steps.norm();
-    log::info("condensed product Z^T (J + Delta) T against its factors: relative difference {:.1e}", norm > 0 ? diff / norm : diff);
+    log::info("condensed product {} against its factors: relative difference {:.1e}", what, norm > 0 ? diff / norm : diff);
     if (!(diff <= 1e-12 * norm))
-      throw FatalModelError(fmt::format("Z^T (J + Delta) T differs from its factors' product by {:.3e} (relative)",
+      throw FatalModelError(fmt::format("{} differs from its factors' product by {:.3e} (relative)", what,
                                         norm > 0 ? diff / norm : diff));
   }
   // The decoupled rows of the reduced matrix (multipliers, and pivots for which `pivot` holds):
@@ -1813,40 +1820,6 @@ class PetscBackend final : public AlgebraBackend, public GlobalMatrix {
         for (const auto& [a, t] : l.rows[static_cast<size_t>(li)]) add_row(a, t);
     }
   }
-  // SIGNORINI_CHECK_CONDENSED_PRODUCT (the MPI tests): T^T J T applied to a vector, as formed
-  // by condensed_product, against T, J and T^T applied in turn (as check_blocks_product does for
-  // the friction blocks). Until session 71 it was compared entry by entry with PETSc's MatPtAP,
-  // whose product and MatAXPY on two patterns took 7 of the 22 s of the tet10 mortar test's two
-  // ranks; a dense vector with no zero entry tells the same differences (but for cancellations
-  // of measure zero) in three products.
-  void check_condensed_product() {
-    VecX v(n_), direct, steps;
-    for (Index i = 0; i < n_; ++i) v(i) = std::sin(0.37 * static_cast<Real>(i) + 0.1);
-    Vec w = nullptr, y = nullptr;
-    check(VecDuplicate(x_, &w), "VecDuplicate");
-    check(VecDuplicate(x_, &y), "VecDuplicate");
-    try {
-      set_owned(x_, v);
-      check(MatMult(Kr_, x_, w), "MatMult");
-      gather(w, direct);
-      check(MatMult(T_, x_, w), "MatMult");
-      check(MatMult(A_, w, y), "MatMult");
-      check(MatMultTranspose(T_, y, w), "MatMultTranspose");
-      gather(w, steps);
-    } catch (...) {
-      VecDestroy(&w);
-      VecDestroy(&y);
-      throw;
-    }
-    VecDestroy(&w);
-    VecDestroy(&y);
-    const Real diff = (direct - steps).norm(), norm = steps.norm();
-    log::info("condensed product T^T J T against its factors: relative difference {:.1e}", norm > 0 ? diff / norm : diff);
-    if (!(diff <= 1e-12 * norm))
-      throw FatalModelError(fmt::format("T^T J T differs from its factors' product by {:.3e} (relative)",
-                                        norm > 0 ? diff / norm : diff));
-  }
-
   // GAMG's near-nullspace on `M` (the layout in PETSc's row order).
   void near_nullspace(Mat M) {
     if (s_.type != "gamg" || !layout_ || layout_->size() != n_) return;
