@@ -87,6 +87,26 @@ TEST(Output, AtomicWriteReplacesWholeFile) {
   EXPECT_EQ(s, "second\n");
   EXPECT_FALSE(std::filesystem::exists(p + ".tmp"));
   EXPECT_THROW(write_file_atomically("/nonexistent-dir/x.txt", "x"), Error);
+  // A write that fails (the stream's error, as a full disk sets it) or throws half way: the
+  // error names the file, the old version stays whole and no partial .tmp is left behind.
+  try {
+    write_file_atomically(p, [](std::ostream& out) {
+      out << "half of a third version";
+      out.setstate(std::ios::badbit);
+    });
+    ADD_FAILURE() << "a failed write was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("signorini_atomic.txt.tmp' failed"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(write_file_atomically(p, [](std::ostream& out) {
+                 out << "half";
+                 throw Error("the writer failed");
+               }),
+               Error);
+  std::ifstream again(p);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()), "second\n");
+  EXPECT_FALSE(std::filesystem::exists(p + ".tmp"));
+  std::filesystem::remove(p);
 }
 
 TEST(Output, PvdListsFilesWithTimes) {

@@ -120,12 +120,21 @@ int run(const std::string& deck, const std::string& outdir, bool check_only, con
   if (ranks > 1) fmt::print("  algebra    {}\n", analysis.algebra());
   if (ranks > 1 && !analysis.contacts().empty()) fmt::print("  contact    {}\n", analysis.contact_evaluation());
   std::fflush(stdout);
-  writer.write_initial(analysis);
-  install_interrupt_handlers();
-  analysis.on_increment([&](const Analysis& a, const IncrementRecord& r) { writer.write_increment(a, r); });
-  AnalysisSummary s = analysis.run();
-  auto checks = evaluate_checks(analysis);
-  writer.finish(analysis, s, checks);
+  AnalysisSummary s;
+  std::vector<CheckResult> checks;
+  try {
+    writer.write_initial(analysis);
+    install_interrupt_handlers();
+    analysis.on_increment([&](const Analysis& a, const IncrementRecord& r) { writer.write_increment(a, r); });
+    s = analysis.run();
+    checks = evaluate_checks(analysis);
+    writer.finish(analysis, s, checks);
+  } catch (const std::exception& e) {
+    // The files of the last converged increment stay; summary.json says why the run stopped
+    // (until session 71 it said `running` after a full disk stopped the run).
+    writer.record_error(analysis, e.what());
+    throw;
+  }
   fmt::print("\n");
   if (const std::string w = oversized_displacement(analysis); !w.empty()) log::warning("{}", w);
   if (!s.completed) {

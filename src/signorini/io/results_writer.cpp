@@ -511,6 +511,16 @@ void ResultsWriter::finish(const Analysis& a, const AnalysisSummary& s, const st
   write_json(a, s, s.completed ? "completed" : s.interrupted ? "interrupted" : "failed", checks);
 }
 
+void ResultsWriter::record_error(const Analysis& a, const std::string& why) noexcept {
+  if (!shared_) return;
+  try {
+    AnalysisSummary s = a.summary();
+    s.failure = why;
+    write_json(a, s, "failed", {});
+  } catch (...) {
+  }
+}
+
 void ResultsWriter::write_json(const Analysis& a, const AnalysisSummary& s, const std::string& status,
                                const std::vector<CheckResult>& checks) {
   const Model& m = model_;

@@ -43,6 +43,10 @@ class ResultsWriter {
   void write_increment(const Analysis& a, const IncrementRecord& rec);
   // Final JSON (and the last VTU when vtu: last). `failure` empty when the run completed.
   void finish(const Analysis& a, const AnalysisSummary& s, const std::vector<CheckResult>& checks);
+  // A run stopped by an error (an output file that could not be written, a disk full): the
+  // summary so far with status `failed` and `why` as its failure, so that summary.json does not
+  // go on saying `running`. Best effort (on a full disk this write may fail too): never throws.
+  void record_error(const Analysis& a, const std::string& why) noexcept;
   const std::string& directory() const { return dir_; }
   std::string pvd_path() const { return dir_ + "/results.pvd"; }
   int vtu_count() const { return static_cast<int>(pvd_.size()); }
