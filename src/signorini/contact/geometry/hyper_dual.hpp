@@ -148,6 +148,16 @@ HyperDual<N> operator*(const HyperDual<N>& a, const HyperDual<N>& b) {
   r.add_symmetric_product(a.g, b.g);
   return r;
 }
+// acc += a b, without the product's temporary: one pass over the Hessian fewer than
+// `acc += a * b` and no 5.6 kB number written and read back (a 36-input one). Sums of products
+// (the 3D mortar's mass integrals, sum over the rule's points of N_j N_k w) are most of its work.
+template <int N>
+void add_product(HyperDual<N>& acc, const HyperDual<N>& a, const HyperDual<N>& b) {
+  acc.v += a.v * b.v;
+  acc.g += a.v * b.g + b.v * a.g;
+  acc.h += a.v * b.h + b.v * a.h;
+  acc.add_symmetric_product(a.g, b.g);
+}
 template <int N>
 HyperDual<N> inverse(const HyperDual<N>& a) {
   const Real i = 1 / a.v;
