@@ -249,6 +249,95 @@ V3<HyperDual<NV>> interpolate(int nn, const HyperDual<NV>* N, const V3<HyperDual
   return p;
 }
 
+// A facet's point and tangents at parameters xi, x = sum N_i X_i, a_1 = sum N_i,a X_i and
+// a_2 = sum N_i,b X_i (a1 and a2 null: not wanted), and its shape functions there (N on T and
+// Nv their values, each null when not wanted).
+template <class T>
+void facet_map(int nn, const V2<T>& xi, const V3<T>* X, std::type_identity_t<T>* N, Real* Nv, V3<T>& x,
+               std::type_identity_t<V3<T>>* a1, std::type_identity_t<V3<T>>* a2) {
+  std::array<T, kMaxFacetNodes> Ns = scratch_shape<T>(), Na = scratch_shape<T>(), Nb = scratch_shape<T>();
+  shape(nn, xi.a, xi.b, Ns.data(), Na.data(), Nb.data());
+  x = interpolate(nn, Ns.data(), X);
+  if (a1) *a1 = interpolate(nn, Na.data(), X);
+  if (a2) *a2 = interpolate(nn, Nb.data(), X);
+  for (int i = 0; i < nn; ++i) {
+    if (N) N[i] = Ns[i];
+    if (Nv) Nv[i] = value(Ns[i]);
+  }
+}
+// On hyper-dual numbers, through the chain rule: every quantity here is F(xi, X) = sum F_i(xi)
+// X_i with F_i = N_i, N_i,a or N_i,b, a function of the two parameters (evaluated on
+// HyperDual<2>: its first and second derivatives in xi), and X_i the pair's inputs or constants
+// (the nodes' coordinates, cell_derivatives: a unit gradient, no Hessian). With
+// c(xi) = sum F_i(xi) X_i at the nodes' values and u_alpha = sum F_i,alpha grad X_i,
+//   F'  = c_alpha xi_alpha' + sum F_i grad X_i,
+//   F'' = c_alpha xi_alpha'' + c_alpha,beta xi_alpha' xi_beta'^T + sum_alpha (xi_alpha' u_alpha^T + u_alpha xi_alpha'^T):
+// one pass over the Hessian and two symmetric products per quantity, where the shape functions
+// on HyperDual<NV> and the interpolation took some 3 nn passes (the nodes not inputs: the
+// general path above).
+template <int NV>
+void facet_map(int nn, const V2<HyperDual<NV>>& xi, const V3<HyperDual<NV>>* X, std::type_identity_t<HyperDual<NV>>* N,
+               Real* Nv, V3<HyperDual<NV>>& x, std::type_identity_t<V3<HyperDual<NV>>>* a1,
+               std::type_identity_t<V3<HyperDual<NV>>>* a2) {
+  using HD = HyperDual<NV>;
+  using L = HyperDual<2>;
+  // Each node coordinate's input (its unit gradient's index), -1 for a constant.
+  int input[kMaxFacetNodes][3];
+  for (int i = 0; i < nn; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const HD& xc = c == 0 ? X[i].x : c == 1 ? X[i].y : X[i].z;
+      int k = -1;
+      for (int j = 0; j < NV; ++j)
+        if (xc.g(j) != 0) {
+          if (k != -1 || xc.g(j) != 1) {
+            facet_map<HD>(nn, xi, X, N, Nv, x, a1, a2);  // not an input: the general path
+            return;
+          }
+          k = j;
+        }
+      input[i][c] = k;
+    }
+  const HD& xa = xi.a;
+  const HD& xb = xi.b;
+  L Ls[kMaxFacetNodes], La[kMaxFacetNodes], Lb[kMaxFacetNodes];
+  shape(nn, L::input(xa.v, 0), L::input(xb.v, 1), Ls, La, Lb);
+  // F from its derivatives in xi, with u_a and u_b.
+  auto lift = [&](const L& f, const typename HD::Vec& ua, const typename HD::Vec& ub) {
+    HD r{typename HD::Uninitialized{}};
+    r.v = f.v;
+    r.g = f.g(0) * xa.g + f.g(1) * xb.g;
+    r.h = f.g(0) * xa.h + f.g(1) * xb.h;
+    r.add_symmetric_product(xa.g, (0.5 * f.hess(0, 0)) * xa.g + f.hess(0, 1) * xb.g + ua);
+    r.add_symmetric_product(xb.g, (0.5 * f.hess(1, 1)) * xb.g + ub);
+    return r;
+  };
+  auto sum = [&](const L* F, int c) {
+    L f(0.0);
+    typename HD::Vec ua = HD::Vec::Zero(), ub = HD::Vec::Zero(), g = HD::Vec::Zero();
+    for (int i = 0; i < nn; ++i) {
+      const HD& xc = c == 0 ? X[i].x : c == 1 ? X[i].y : X[i].z;
+      f += F[i] * xc.v;
+      if (const int k = input[i][c]; k >= 0) {
+        g(k) += F[i].v;
+        ua(k) += F[i].g(0);
+        ub(k) += F[i].g(1);
+      }
+    }
+    HD r = lift(f, ua, ub);
+    r.g += g;
+    return r;
+  };
+  auto point = [&](const L* F) { return V3<HD>{sum(F, 0), sum(F, 1), sum(F, 2)}; };
+  x = point(Ls);
+  if (a1) *a1 = point(La);
+  if (a2) *a2 = point(Lb);
+  const typename HD::Vec zero = HD::Vec::Zero();
+  for (int i = 0; i < nn; ++i) {
+    if (N) N[i] = lift(Ls[i], zero, zero);
+    if (Nv) Nv[i] = Ls[i].v;
+  }
+}
+
 // The reference element as a counter-clockwise polygon, its area and its centre.
 struct Reference {
   int n;
@@ -275,10 +364,9 @@ inline int corners(int nn) { return nn == 3 || nn == 6 ? 3 : 4; }
 template <class T>
 V2<T> projection_step(int nn, const V3<T>* xf, const V3<T>& p, const V3<T>& t1, const V3<T>& t2, const V2<T>& xi,
                       T& det) {
-  std::array<T, kMaxFacetNodes> N = scratch_shape<T>(), Na = scratch_shape<T>(), Nb = scratch_shape<T>();
-  shape(nn, xi.a, xi.b, N.data(), Na.data(), Nb.data());
-  const V3<T> r = interpolate(nn, N.data(), xf) - p, a1 = interpolate(nn, Na.data(), xf),
-              a2 = interpolate(nn, Nb.data(), xf);
+  V3<T> x, a1, a2;
+  facet_map(nn, xi, xf, nullptr, nullptr, x, &a1, &a2);
+  const V3<T> r = x - p;
   const T F1 = dot(r, t1), F2 = dot(r, t2);
   const T J11 = dot(a1, t1), J12 = dot(a2, t1), J21 = dot(a1, t2), J22 = dot(a2, t2);
   det = J11 * J22 - J12 * J21;
@@ -449,10 +537,13 @@ template <class T>
 bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real& area, Real& cover,
                     std::vector<CellSample>* points = nullptr) {
   const Reference& ref = reference(ns);
-  std::array<T, kMaxFacetNodes> Nv = scratch_shape<T>(), Nav = scratch_shape<T>(), Nbv = scratch_shape<T>();
-  T *N = Nv.data(), *Na = Nav.data(), *Nb = Nbv.data();
-  shape(ns, T(ref.centre.a), T(ref.centre.b), N, Na, Nb);
-  const V3<T> t1 = interpolate(ns, Na, xs), t2 = interpolate(ns, Nb, xs);
+  std::array<T, kMaxFacetNodes> Nv = scratch_shape<T>();
+  T* N = Nv.data();  // the slave's shape functions at a rule point
+  V3<T> t1, t2;
+  {
+    V3<T> centre;
+    facet_map(ns, V2<T>{T(ref.centre.a), T(ref.centre.b)}, xs, nullptr, nullptr, centre, &t1, &t2);
+  }
   const V3<T> m0 = cross(t1, t2);
   const T m0_length = sqrt(dot(m0, m0));
   const V3<T> n0 = (1 / m0_length) * m0;
@@ -560,35 +651,35 @@ bool cell_integrals(int ns, int nm, const V3<T>* xs, const V3<T>* xm, T* u, Real
       if (value(det) == 0) continue;
       for (const CellPoint& q : rule) {
         const V2<T> xi = c + q.r * e1 + q.s * e2;
-        shape(ns, xi.a, xi.b, N, Na, Nb);
-        const V3<T> x = interpolate(ns, N, xs);
+        V3<T> x, sa1, sa2;  // the slave's point and (curved facets) its tangents
+        facet_map(ns, xi, xs, N, nullptr, x, flat ? nullptr : &sa1, flat ? nullptr : &sa2);
         V2<T> eta;
         if (!project_along(nm, xm, x, t1, t2, eta)) {
           if (affine) continue;  // only the slip's points (the integrals came from the moments)
           return false;
         }
-        std::array<T, kMaxFacetNodes> Mv = scratch_shape<T>(), Mav = scratch_shape<T>(), Mbv = scratch_shape<T>();
-        T *M = Mv.data(), *Ma = Mav.data(), *Mb = Mbv.data();
-        shape(nm, eta.a, eta.b, M, Ma, Mb);
+        Real M[kMaxFacetNodes];
+        V3<T> y;  // the master's point
+        facet_map(nm, eta, xm, nullptr, M, y, nullptr, nullptr);
         T jac;
         if (flat) {
           jac = jac_flat;
         } else {
-          const V3<T> m = cross(interpolate(ns, Na, xs), interpolate(ns, Nb, xs));
+          const V3<T> m = cross(sa1, sa2);
           jac = sqrt(dot(m, m));
         }
         const T w = (q.weight * det) * jac;
         if (points) {
           CellSample p{};
           for (int k = 0; k < ns; ++k) p.N[k] = value(N[k]);
-          for (int k = 0; k < nm; ++k) p.M[k] = value(M[k]);
+          for (int k = 0; k < nm; ++k) p.M[k] = M[k];
           p.w = value(w);
           p.xi[0] = value(xi.a), p.xi[1] = value(xi.b);
           p.pw = q.weight * value(det);
           points->push_back(p);
         }
         if (affine) continue;
-        const T g = dot(interpolate(nm, M, xm) - x, n0);
+        const T g = dot(y - x, n0);
         current += value(w);
         const T gw = g * w;
         for (int k = 0; k < ns; ++k) {
