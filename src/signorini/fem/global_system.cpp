@@ -44,10 +44,20 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
   std::vector<int> inner;
   inner.reserve(static_cast<size_t>(nn) * 27 * ndpn * ndpn);
   std::vector<int> column;
+  // A column's extra rows, each coupling group listing it once: the contact groups of its
+  // neighbours repeat most rows many times, so those already in the column (or seen) are
+  // marked off first and only the new ones are sorted and merged in (sorting the column with
+  // its repeats was 5 % of a 3D mortar run, whose pattern follows the active set).
+  std::vector<Index> seen(extra.empty() ? 0 : n, -1);
   auto emit = [&](Index col) {
     if (!extra.empty() && !extra[col].empty()) {
-      column.insert(column.end(), extra[col].begin(), extra[col].end());
-      std::sort(column.begin(), column.end());
+      if (!std::is_sorted(column.begin(), column.end())) std::sort(column.begin(), column.end());
+      for (int r : column) seen[r] = col;
+      const auto mid = static_cast<std::ptrdiff_t>(column.size());
+      for (int r : extra[col])
+        if (seen[r] != col) seen[r] = col, column.push_back(r);
+      std::sort(column.begin() + mid, column.end());
+      std::inplace_merge(column.begin(), column.begin() + mid, column.end());
       column.erase(std::unique(column.begin(), column.end()), column.end());
     }
     inner.insert(inner.end(), column.begin(), column.end());
