@@ -44,10 +44,11 @@ void SparseSystem::build_pattern(const DofMap& dofs, const std::vector<const Ele
   std::vector<int> inner;
   inner.reserve(static_cast<size_t>(nn) * 27 * ndpn * ndpn);
   std::vector<int> column;
-  // A column's extra rows, each coupling group listing it once: the contact groups of its
-  // neighbours repeat most rows many times, so those already in the column (or seen) are
-  // marked off first and only the new ones are sorted and merged in (sorting the column with
-  // its repeats was 5 % of a 3D mortar run, whose pattern follows the active set).
+  // A column's extra rows come from every coupling group that holds it, and neighbouring
+  // slave nodes' contact groups overlap, so most rows come many times: those already in the
+  // column or already seen are marked off, and only the new ones are sorted and merged in
+  // (sorting the column with all the repeats was 5 % of a 3D mortar run, whose pattern is
+  // rebuilt as its active set grows).
   std::vector<Index> seen(extra.empty() ? 0 : n, -1);
   auto emit = [&](Index col) {
     if (!extra.empty() && !extra[col].empty()) {

@@ -207,8 +207,9 @@ V3<T> interpolate(int nn, const T* N, const V3<T>* x) {
   return p;
 }
 // acc += a b for hyper-dual numbers where b is one of the inputs (a unit gradient, no Hessian):
-// then (a b)'' = b a'' + e_k a'^T + a' e_k^T, a quarter of a general product's work. The
-// interpolations of nodal coordinates, most of the work here, are such products.
+// then (a b)'' = b a'' + e_k a'^T + a' e_k^T, a quarter of a general product's work (the
+// interpolations of nodal coordinates in facet_map's general path; its hyper-dual path below
+// goes through the facet's two parameters instead).
 template <int NV>
 void add_input_product(HyperDual<NV>& acc, const HyperDual<NV>& a, const HyperDual<NV>& b) {
   int k = -1;
@@ -355,10 +356,10 @@ inline bool affine_facet(int nn) { return nn == 3; }
 inline int corners(int nn) { return nn == 3 || nn == 6 ? 3 : 4; }
 
 // The parameters of facet xf (nn nodes) at which x(xi) - p is normal to t1 and t2 (parallel to
-// n0 = t1 x t2): Newton in plain numbers from the centre, then two Newton steps on T from the
+// n0 = t1 x t2): Newton in plain numbers from the centre, then two Newton steps from the
 // converged parameters (the first makes the gradient exact, the second the Hessian; the map is
-// stationary at its fixed point; on tri3 facets one step is exact). False if Newton fails (the
-// facet is edge-on to n0).
+// stationary at its fixed point; on hyper-dual numbers the first runs on first-order ones; on
+// tri3 facets one step is exact). False if Newton fails (the facet is edge-on to n0).
 // One Newton step for those parameters from xi: the step d (xi - d is the next iterate) and the
 // determinant of the Jacobian [a_beta . t_alpha].
 template <class T>
