@@ -200,56 +200,22 @@ std::array<T, kMaxFacetNodes> scratch_shape() {
   return scratch_array<T>(std::make_index_sequence<kMaxFacetNodes>());
 }
 
-template <class T>
-V3<T> interpolate(int nn, const T* N, const V3<T>* x) {
-  V3<T> p{T(0), T(0), T(0)};
-  for (int i = 0; i < nn; ++i) p = p + N[i] * x[i];
-  return p;
-}
-// acc += a b for hyper-dual numbers where b is one of the inputs (a unit gradient, no Hessian):
-// then (a b)'' = b a'' + e_k a'^T + a' e_k^T, a quarter of a general product's work (the
-// interpolations of nodal coordinates in facet_map's general path; its hyper-dual path below
-// goes through the facet's two parameters instead).
-template <int NV>
-void add_input_product(HyperDual<NV>& acc, const HyperDual<NV>& a, const HyperDual<NV>& b) {
-  int k = -1;
-  for (int i = 0; i < NV; ++i)
-    if (b.g(i) != 0) {
-      if (k >= 0 || b.g(i) != 1) k = -2;
-      if (k == -2) break;
-      k = i;
-    }
-  if (k < 0 || b.hess(k, k) != 0) {
-    add_product(acc, a, b);
-    return;
-  }
-  using HD = HyperDual<NV>;
-  acc.v += a.v * b.v;
-  acc.g += b.v * a.g;
-  acc.g(k) += a.v;
-  acc.h += b.v * a.h;
-  // Row and column k of the upper triangle: (i, k) for i < k, (k, k) twice, (k, j) for j > k.
-  for (int i = 0; i < k; ++i) acc.h(HD::row(i) + k - i) += a.g(i);
-  acc.h.segment(HD::row(k), NV - k) += a.g.tail(NV - k);
-  acc.h(HD::row(k)) += a.g(k);
-}
 // acc += a b on any number type (hyper-dual numbers without the product's temporary).
 template <class T>
 void accumulate(T& acc, const T& a, const T& b) {
   if constexpr (IsHyperDual<T>::value) add_product(acc, a, b);
   else acc += a * b;
 }
-template <int NV>
-V3<HyperDual<NV>> interpolate(int nn, const HyperDual<NV>* N, const V3<HyperDual<NV>>* x) {
-  V3<HyperDual<NV>> p{HyperDual<NV>(0), HyperDual<NV>(0), HyperDual<NV>(0)};
+template <class T>
+V3<T> interpolate(int nn, const T* N, const V3<T>* x) {
+  V3<T> p{T(0), T(0), T(0)};
   for (int i = 0; i < nn; ++i) {
-    add_input_product(p.x, N[i], x[i].x);
-    add_input_product(p.y, N[i], x[i].y);
-    add_input_product(p.z, N[i], x[i].z);
+    accumulate(p.x, N[i], x[i].x);
+    accumulate(p.y, N[i], x[i].y);
+    accumulate(p.z, N[i], x[i].z);
   }
   return p;
 }
-
 // A facet's point and tangents at parameters xi, x = sum N_i X_i, a_1 = sum N_i,a X_i and
 // a_2 = sum N_i,b X_i (a1 and a2 null: not wanted), and its shape functions there (N on T and
 // Nv their values, each null when not wanted).
@@ -274,8 +240,8 @@ void facet_map(int nn, const V2<T>& xi, const V3<T>* X, std::type_identity_t<T>*
 //   F'  = c_alpha xi_alpha' + sum F_i grad X_i,
 //   F'' = c_alpha xi_alpha'' + c_alpha,beta xi_alpha' xi_beta'^T + sum_alpha (xi_alpha' u_alpha^T + u_alpha xi_alpha'^T):
 // one pass over the Hessian and two symmetric products per quantity, where the shape functions
-// on HyperDual<NV> and the interpolation took some 3 nn passes (the nodes not inputs: the
-// general path above).
+// on HyperDual<NV> and their interpolation (the general path above, taken when a node is not
+// an input) take some 3 nn products.
 template <int NV>
 void facet_map(int nn, const V2<HyperDual<NV>>& xi, const V3<HyperDual<NV>>* X, std::type_identity_t<HyperDual<NV>>* N,
                Real* Nv, V3<HyperDual<NV>>& x, std::type_identity_t<V3<HyperDual<NV>>>* a1,
